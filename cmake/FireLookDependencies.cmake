@@ -32,3 +32,6 @@ if(FIRELOOK_BUILD_TESTS)
   find_package(GTest REQUIRED)
   find_package(benchmark REQUIRED)
 endif()
+
+# CLI11: the `firelook` command line (subcommands with --help each).
+find_package(CLI11 REQUIRED)

@@ -1,0 +1,129 @@
+#include "bake/bake_config.h"
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace firelook::bake {
+
+using nlohmann::json;
+
+namespace {
+
+std::vector<double> axisFromJson(const json& value) {
+    if (value.is_number()) return {value.get<double>()};
+    if (value.is_array()) return value.get<std::vector<double>>();
+    // {"min": a, "max": b, "count": n, "spacing": "linear"|"geometric"}
+    const double lo = value.at("min").get<double>(), hi = value.at("max").get<double>();
+    const int count = value.at("count").get<int>();
+    const bool geometric = value.value("spacing", std::string("linear")) == "geometric";
+    if (count < 1 || (count > 1 && !(hi > lo)) || (geometric && !(lo > 0)))
+        throw std::invalid_argument("axis needs count >= 1, max > min (and min > 0 when geometric)");
+    std::vector<double> out;
+    for (int i = 0; i < count; ++i) {
+        const double t = count == 1 ? 0.0 : double(i) / (count - 1);
+        out.push_back(geometric ? lo * std::pow(hi / lo, t) : lo + t * (hi - lo));
+    }
+    return out;
+}
+
+void checkKeys(const json& object, const std::set<std::string>& known, const std::string& where) {
+    for (const auto& [key, value] : object.items())
+        if (!known.count(key)) throw std::invalid_argument("unknown key '" + key + "' in " + where);
+}
+
+}  // namespace
+
+void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
+    std::ifstream in(file);
+    if (!in) throw std::runtime_error(file.string() + ": cannot open bake config");
+    try {
+        std::stringstream text;
+        text << in.rdbuf();
+        const json j = json::parse(text.str());
+        checkKeys(j, {"format", "version", "frames", "size", "bins", "t_lo", "t_hi", "rbf_width", "albedo", "axes",
+                      "alpha_threshold_samples", "trace", "compression", "seed", "up", "density_grid",
+                      "temperature_grid", "temperature_scale", "temperature_offset"},
+                  "the bake config");
+        if (j.contains("frames")) c.frames = j["frames"].get<std::string>();
+        if (j.contains("size")) std::tie(c.scene.width, c.scene.height) = parseSize(j["size"].get<std::string>());
+        if (j.contains("bins")) c.bins = j["bins"].get<int>();
+        if (j.contains("t_lo")) c.t_lo = j["t_lo"].get<double>();
+        if (j.contains("t_hi")) c.t_hi = j["t_hi"].get<double>();
+        if (j.contains("rbf_width")) c.rbf_width = j["rbf_width"].get<double>();
+        if (j.contains("albedo")) c.albedo = j["albedo"].get<double>();
+        if (j.contains("alpha_threshold_samples")) c.alpha_threshold_samples = j["alpha_threshold_samples"].get<int>();
+        if (j.contains("seed")) c.seed = j["seed"].get<uint64_t>();
+        if (j.contains("up")) c.scene.up = j["up"].get<std::string>() == "z" ? render::UpAxis::Z : render::UpAxis::Y;
+        if (j.contains("density_grid")) c.read.density_grid = j["density_grid"].get<std::string>();
+        if (j.contains("temperature_grid")) c.read.temperature_grid = j["temperature_grid"].get<std::string>();
+        if (j.contains("temperature_scale")) c.read.temperature_scale = j["temperature_scale"].get<double>();
+        if (j.contains("temperature_offset")) c.read.temperature_offset = j["temperature_offset"].get<double>();
+        if (j.contains("axes")) {
+            const json& a = j["axes"];
+            checkKeys(a, {"temperature_threshold", "smoke_extinction", "flame_extinction"}, "axes");
+            if (a.contains("temperature_threshold")) c.axes.temperature_threshold = axisFromJson(a["temperature_threshold"]);
+            if (a.contains("smoke_extinction")) c.axes.smoke_extinction = axisFromJson(a["smoke_extinction"]);
+            if (a.contains("flame_extinction")) c.axes.flame_extinction = axisFromJson(a["flame_extinction"]);
+        }
+        if (j.contains("trace")) {
+            const json& t = j["trace"];
+            checkKeys(t, {"cell_voxels", "photons_primary", "photons_per_order", "max_orders", "order_tolerance",
+                          "step_voxels"},
+                      "trace");
+            c.trace.cell_voxels = t.value("cell_voxels", c.trace.cell_voxels);
+            c.trace.photons_primary = t.value("photons_primary", c.trace.photons_primary);
+            c.trace.photons_per_order = t.value("photons_per_order", c.trace.photons_per_order);
+            c.trace.max_orders = t.value("max_orders", c.trace.max_orders);
+            c.trace.order_tolerance = t.value("order_tolerance", c.trace.order_tolerance);
+            c.trace.step_voxels = t.value("step_voxels", c.trace.step_voxels);
+        }
+        if (j.contains("compression")) {
+            const json& t = j["compression"];
+            checkKeys(t, {"target_relative_error", "max_rank"}, "compression");
+            c.compression.target_relative_error = t.value("target_relative_error", c.compression.target_relative_error);
+            c.compression.max_rank = t.value("max_rank", c.compression.max_rank);
+        }
+        basis::validateAxes(c.axes);
+        if (c.bins < 1 || c.bins > 256) throw std::invalid_argument("bins must be 1..256");
+        if (!(c.albedo >= 0.0 && c.albedo <= 1.0)) throw std::invalid_argument("albedo must be in [0, 1]");
+        if (c.trace.step_voxels <= 0.0 || c.trace.cell_voxels < 1 || c.trace.photons_primary < 1 ||
+            c.trace.photons_per_order < 1)
+            throw std::invalid_argument("trace settings must be positive");
+    } catch (const std::exception& e) {
+        throw std::runtime_error(file.string() + ": " + e.what());
+    }
+}
+
+std::string configToJson(const BakeConfig& c) {
+    json j;
+    j["frames"] = c.frames.empty() ? "all" : c.frames;
+    j["size"] = std::to_string(c.scene.width) + "x" + std::to_string(c.scene.height);
+    j["up"] = c.scene.up == render::UpAxis::Z ? "z" : "y";
+    j["scene"] = c.scene.scene_path;
+    if (c.scene.camera) j["camera"] = *c.scene.camera;
+    j["density_grid"] = c.read.density_grid;
+    j["temperature_grid"] = c.read.temperature_grid;
+    j["temperature_scale"] = c.read.temperature_scale;
+    j["temperature_offset"] = c.read.temperature_offset;
+    j["bins"] = c.bins;
+    if (c.t_lo) j["t_lo"] = *c.t_lo;
+    if (c.t_hi) j["t_hi"] = *c.t_hi;
+    j["rbf_width"] = c.rbf_width;
+    j["albedo"] = c.albedo;
+    j["axes"] = {{"temperature_threshold", c.axes.temperature_threshold},
+                 {"smoke_extinction", c.axes.smoke_extinction},
+                 {"flame_extinction", c.axes.flame_extinction}};
+    j["alpha_threshold_samples"] = c.alpha_threshold_samples;
+    j["trace"] = {{"cell_voxels", c.trace.cell_voxels},         {"photons_primary", c.trace.photons_primary},
+                  {"photons_per_order", c.trace.photons_per_order}, {"max_orders", c.trace.max_orders},
+                  {"order_tolerance", c.trace.order_tolerance},   {"step_voxels", c.trace.step_voxels}};
+    j["compression"] = {{"target_relative_error", c.compression.target_relative_error},
+                        {"max_rank", c.compression.max_rank}};
+    j["seed"] = c.seed;
+    return j.dump();
+}
+
+}  // namespace firelook::bake

@@ -1,0 +1,41 @@
+// Every setting of a bake, with defaults that suit the bundled sample, and the
+// optional --config JSON file that overrides them (docs/bake-config.md).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "bake/basis_compression.h"
+#include "bake/basis_tracer.h"
+#include "bake/scene_setup.h"
+#include "basis/parameter_grid.h"
+#include "vdb/read_options.h"
+
+namespace firelook::bake {
+
+struct BakeConfig {
+    std::string frames;  // "A-B", empty = all
+    SceneOptions scene;
+    vdb::ReadOptions read;
+    int bins = 16;
+    std::optional<double> t_lo, t_hi;  // default: the sequence's temperature range
+    double rbf_width = kDefaultRbfWidth;
+    double albedo = 0.7;
+    // Sampled extinction parameters; one value collapses an axis (that parameter is fixed).
+    basis::ParameterAxes axes{{1.0, 1.2, 1.4, 1.6, 1.8, 2.0}, {2.0, 4.0, 8.0, 16.0}, {0.5, 1.5, 4.0}};
+    int alpha_threshold_samples = 41;  // T_c samples of the per-pixel optical depths (exact alpha)
+    TraceSettings trace;
+    CompressionSettings compression;
+    uint64_t seed = 1;
+};
+
+// Applies the keys present in a bake.json; unknown keys are an error (a typo
+// in a bake setting should not silently bake the wrong thing).
+void applyConfigFile(BakeConfig& config, const std::filesystem::path& file);
+
+// The whole configuration as JSON, recorded in the package as provenance.
+std::string configToJson(const BakeConfig& config);
+
+}  // namespace firelook::bake

@@ -1,0 +1,48 @@
+// `firelook bake`: VDB sequence -> .firelook package, one frame at a time
+// (memory bounded by one frame's basis matrix), written atomically.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "bake/bake_config.h"
+#include "basis/bake_description.h"
+
+namespace firelook::bake {
+
+struct FrameBakeReport {
+    int frame = 0;
+    int rank = 0;
+    double truncation_error = 0.0;
+    double quantisation_error = 0.0;
+    int scattering_orders = 0;
+    double last_order_fraction = 0.0;
+    double trace_seconds = 0.0;
+    double compress_seconds = 0.0;
+};
+
+struct BakeReport {
+    std::vector<FrameBakeReport> frames;
+    double seconds = 0.0;
+    uint64_t package_bytes = 0;
+    uint64_t uncompressed_basis_bytes = 0;  // float32 basis images the package stands for
+    long peak_memory_kib = 0;
+};
+
+// The description (bins, axes, lights, size) a bake of this sequence with this
+// configuration produces; also used by `reference` and `bench` to match it.
+basis::BakeDescription describeBake(const vdb::VdbSequence& sequence, const BakeConfig& config,
+                                    const SceneSetup& scene);
+
+BasisModel basisModelOf(const basis::BakeDescription& description);
+
+// progress(fraction, detail) returns false to cancel: the bake then throws and
+// leaves no package behind.
+BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::path& output,
+                       const BakeConfig& config, const std::string& tool_version,
+                       const std::function<bool(double, const std::string&)>& progress = {});
+
+}  // namespace firelook::bake

@@ -1,0 +1,98 @@
+#include "bake/scene_setup.h"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "gltf/gltf_scene.h"
+#include "vdb/dense_volume.h"
+
+namespace firelook::bake {
+
+SceneSetup resolveScene(const vdb::VdbSequence& sequence, const SceneOptions& options) {
+    std::optional<render::Camera> camera;
+    SceneSetup setup{render::Camera(render::CameraParameters{}), {}, {}, "default"};
+    if (!options.scene_path.empty()) {
+        const gltf::Scene scene = gltf::loadScene(options.scene_path);
+        if (scene.camera)
+            camera = render::Camera::fromWorldFromCamera(scene.camera->world_from_camera, scene.camera->yfov_radians,
+                                                         options.width, options.height);
+        for (const gltf::DirectionalLight& light : scene.lights) {
+            setup.light_directions.push_back(light.direction);
+            setup.light_colors.push_back(Rgb(light.color * light.intensity));
+        }
+        setup.camera_source = options.scene_path;
+    }
+    if (options.camera) {
+        const auto& c = *options.camera;
+        const glm::dvec3 up = options.up == render::UpAxis::Z ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0);
+        camera = render::Camera::lookAt({c[0], c[1], c[2]}, {c[3], c[4], c[5]}, up, c[6] * std::numbers::pi / 180.0,
+                                        options.width, options.height);
+        setup.camera_source = "--camera";
+    }
+    if (!camera) {
+        const vdb::Aabb& bounds = sequence.sequenceWorldBounds();
+        if (bounds.empty()) throw std::runtime_error(sequence.source() + ": every frame is empty; no camera can frame it");
+        camera = render::defaultCamera(bounds.min, bounds.max, options.up, options.width, options.height);
+    }
+    setup.camera = *camera;
+    if (options.scene_path.empty()) {
+        // Key light from above, slightly from the camera's side, so lit smoke shows its shape.
+        const glm::dvec3 down = options.up == render::UpAxis::Z ? glm::dvec3(0.35, 0.45, -0.82)
+                                                                : glm::dvec3(0.35, -0.82, -0.45);
+        setup.light_directions.push_back(glm::normalize(down));
+        setup.light_colors.push_back(Rgb(1.0f, 0.95f, 0.9f));
+    }
+    return setup;
+}
+
+render::Medium mediumFromFrame(const vdb::VolumeFrame& frame) {
+    const vdb::DenseVolume dense = vdb::toDense(frame);
+    if (dense.voxelCount() == 0) return render::Medium();
+    return render::Medium(dense.origin, dense.dims, dense.density, dense.temperature, dense.index_to_world, 0.0f);
+}
+
+std::pair<double, double> sequenceTemperatureRange(const vdb::VdbSequence& sequence) {
+    double lo = 0.0, hi = 0.0;
+    for (const vdb::FrameFile& file : sequence.frames()) {
+        const vdb::VolumeFrame frame = sequence.load(file.number);
+        if (frame.temperature_stats.active_voxels == 0) continue;
+        lo = std::min(lo, frame.temperature_stats.min);
+        hi = std::max(hi, frame.temperature_stats.max);
+    }
+    if (!(hi > lo)) hi = lo + 1.0;  // a constant field still needs a non-empty range
+    return {lo, hi};
+}
+
+std::vector<int> selectFrames(const vdb::VdbSequence& sequence, const std::string& range) {
+    int first = std::numeric_limits<int>::min(), last = std::numeric_limits<int>::max();
+    if (!range.empty()) {
+        const size_t dash = range.find('-', 1);
+        try {
+            first = std::stoi(range.substr(0, dash));
+            last = dash == std::string::npos ? first : std::stoi(range.substr(dash + 1));
+        } catch (const std::exception&) {
+            throw std::invalid_argument("--frames '" + range + "' is not A-B or A");
+        }
+    }
+    std::vector<int> frames;
+    for (const vdb::FrameFile& f : sequence.frames())
+        if (f.number >= first && f.number <= last) frames.push_back(f.number);
+    if (frames.empty())
+        throw std::invalid_argument(sequence.source() + ": no frame in range '" + range + "'");
+    return frames;
+}
+
+std::pair<int, int> parseSize(const std::string& text) {
+    const size_t x = text.find('x');
+    try {
+        if (x == std::string::npos) throw std::invalid_argument("no x");
+        const int w = std::stoi(text.substr(0, x)), h = std::stoi(text.substr(x + 1));
+        if (w < 1 || h < 1 || w > 16384 || h > 16384) throw std::invalid_argument("range");
+        return {w, h};
+    } catch (const std::exception&) {
+        throw std::invalid_argument("--size '" + text + "' is not WxH with 1..16384 pixels each");
+    }
+}
+
+}  // namespace firelook::bake

@@ -1,0 +1,51 @@
+// What `bake` and `reference` share so their images are directly comparable:
+// the sequence, the camera, the lights and the temperature bins, all resolved
+// the same way from the same options (DESIGN.md section 6).
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "look/look_model.h"
+#include "render/camera.h"
+#include "render/medium.h"
+#include "vdb/vdb_sequence.h"
+
+namespace firelook::bake {
+
+struct SceneOptions {
+    std::string scene_path;                       // glTF: first perspective camera + directional lights
+    std::optional<std::array<double, 7>> camera;  // position xyz, target xyz, vertical fov in degrees
+    render::UpAxis up = render::UpAxis::Y;
+    int width = 256;
+    int height = 256;
+};
+
+struct SceneSetup {
+    render::Camera camera;
+    std::vector<glm::dvec3> light_directions;  // direction each light travels
+    std::vector<Rgb> light_colors;             // from the scene (color * intensity), else defaults
+    std::string camera_source;                 // "default", "--camera" or the glTF file
+};
+
+// Without a scene, one default light shines from above and in front of the camera.
+SceneSetup resolveScene(const vdb::VdbSequence& sequence, const SceneOptions& options);
+
+// The tracers' medium for one loaded frame (dense copy of the sparse grids).
+render::Medium mediumFromFrame(const vdb::VolumeFrame& frame);
+
+// [min, max] of the temperature over every frame of the sequence (loads each frame once).
+// The range includes 0 when the grids' background is 0, so ambient air sits in bin 0.
+std::pair<double, double> sequenceTemperatureRange(const vdb::VdbSequence& sequence);
+
+// Parses "A-B" or "A" into the frames of the sequence inside it (all when empty).
+std::vector<int> selectFrames(const vdb::VdbSequence& sequence, const std::string& range);
+
+// Parses "WxH".
+std::pair<int, int> parseSize(const std::string& text);
+
+}  // namespace firelook::bake

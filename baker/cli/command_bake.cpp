@@ -1,0 +1,52 @@
+// firelook bake SEQUENCE -o OUT.firelook [--frames A-B] [--size WxH] [--bins N]
+//                [--scene S.gltf | --camera ...] [--config BAKE.json] [--seed S]
+#include <cstdio>
+
+#include "bake/bake_pipeline.h"
+#include "cli/commands.h"
+#include "cli/interrupt.h"
+#include "cli/progress_bar.h"
+#include "cli/scene_options.h"
+#include "cli/version.h"
+
+namespace firelook::cli {
+
+void registerBakeCommand(CLI::App& app) {
+    struct Args {
+        std::string sequence, output, frames;
+        uint64_t seed = 1;
+        SceneFlags scene;
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* cmd = app.add_subcommand("bake", "Bake a VDB sequence into a .firelook package of compressed basis images");
+    cmd->add_option("SEQUENCE", args->sequence, "folder of .vdb files or a pattern such as fire_####.vdb")->required();
+    cmd->add_option("-o,--output", args->output, "output package (.firelook)")->required();
+    cmd->add_option("--frames", args->frames, "frame range A-B (numbers from the file names)");
+    cmd->add_option("--seed", args->seed, "random seed: the same seed gives the same bytes")->capture_default_str();
+    addSceneFlags(*cmd, args->scene);
+    cmd->callback([cmd, args] {
+        bake::BakeConfig config = makeBakeConfig(*cmd, args->scene);
+        if (!args->frames.empty()) config.frames = args->frames;
+        if (cmd->count("--seed") || args->scene.config.empty()) config.seed = args->seed;
+        ProgressBar bar("bake");
+        const bake::BakeReport report = bake::bakePackage(
+            args->sequence, args->output, config, kToolVersion, [&](double fraction, const std::string& detail) {
+                bar.update(fraction, detail);
+                return !interruptRequested();
+            });
+        bar.finish(std::to_string(report.frames.size()) + " frames");
+        throwIfInterrupted();
+        std::printf("wrote %s: %zu frames, %.1f MB (%.2f%% of the %.1f MB of float basis images)\n",
+                    args->output.c_str(), report.frames.size(), report.package_bytes / 1e6,
+                    100.0 * report.package_bytes / std::max<double>(1.0, report.uncompressed_basis_bytes),
+                    report.uncompressed_basis_bytes / 1e6);
+        std::printf("%6s %5s %10s %10s %7s %9s %9s\n", "frame", "rank", "svd err", "half err", "orders", "trace s",
+                    "svd s");
+        for (const bake::FrameBakeReport& f : report.frames)
+            std::printf("%6d %5d %10.2e %10.2e %7d %9.1f %9.1f\n", f.frame, f.rank, f.truncation_error,
+                        f.quantisation_error, f.scattering_orders, f.trace_seconds, f.compress_seconds);
+        std::printf("bake time %.1f s, peak memory %.0f MiB\n", report.seconds, report.peak_memory_kib / 1024.0);
+    });
+}
+
+}  // namespace firelook::cli

@@ -1,0 +1,163 @@
+// firelook info PATH [--json]: a package (format version, sections, frames,
+// image size, rank per frame, everything needed to reproduce an image) or a VDB
+// sequence (frames, grids, value ranges, active voxels, bounds).
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "basis/basis_package.h"
+#include "cli/commands.h"
+#include "package/package_reader.h"
+#include "vdb/vdb_sequence.h"
+#include "vdb/volume_frame.h"
+
+namespace firelook::cli {
+namespace {
+
+using nlohmann::ordered_json;
+
+std::string fourcc(uint32_t type) {
+    std::string s(4, ' ');
+    for (int i = 0; i < 4; ++i) {
+        const char c = static_cast<char>((type >> (8 * i)) & 0xff);
+        s[i] = (c >= 32 && c < 127) ? c : '?';
+    }
+    return s;
+}
+
+bool looksLikePackage(const std::filesystem::path& path) {
+    if (!std::filesystem::is_regular_file(path)) return false;
+    if (path.extension() == ".firelook") return true;
+    std::ifstream in(path, std::ios::binary);
+    char head[4] = {};
+    in.read(head, 4);
+    return in.gcount() == 4 && static_cast<unsigned char>(head[0]) == 0x89 && head[1] == 'F' && head[2] == 'L' &&
+           head[3] == 'K';
+}
+
+ordered_json packageInfo(const std::filesystem::path& path) {
+    const package::PackageReader reader = package::PackageReader::open(path);
+    ordered_json info;
+    info["kind"] = "package";
+    info["file"] = path.string();
+    info["format_version"] = std::to_string(reader.version().major) + "." + std::to_string(reader.version().minor);
+    info["file_bytes"] = reader.fileSize();
+    ordered_json sections = ordered_json::array();
+    for (const package::SectionInfo& s : reader.sections()) {
+        sections.push_back({{"type", fourcc(s.type)},
+                            {"frame", s.frame == package::kNoFrame ? ordered_json(nullptr) : ordered_json(s.frame)},
+                            {"codec", s.codec == package::Codec::Zstd ? "zstd" : "raw"},
+                            {"stored_bytes", s.stored_size},
+                            {"raw_bytes", s.raw_size},
+                            {"required", s.required()}});
+    }
+    info["sections"] = sections;
+    if (const std::optional<std::string> meta = reader.metadata()) {
+        const ordered_json doc = ordered_json::parse(*meta, nullptr, false);
+        if (!doc.is_discarded()) info["metadata"] = doc;
+    }
+    return info;
+}
+
+ordered_json sequenceInfo(const std::string& source) {
+    const vdb::VdbSequence sequence = vdb::VdbSequence::open(source);
+    ordered_json info;
+    info["kind"] = "vdb-sequence";
+    info["source"] = source;
+    info["density_grid"] = sequence.options().density_grid;
+    info["temperature_grid"] = sequence.options().temperature_grid;
+    info["frame_count"] = sequence.frames().size();
+    info["gaps"] = sequence.gaps();
+    const vdb::Aabb& b = sequence.sequenceWorldBounds();
+    info["world_bounds"] = {{"min", {b.min.x, b.min.y, b.min.z}}, {"max", {b.max.x, b.max.y, b.max.z}}};
+    ordered_json frames = ordered_json::array();
+    for (const vdb::FrameFile& file : sequence.frames()) {
+        const vdb::VolumeFrame f = sequence.load(file.number);
+        const auto stats = [](const vdb::GridStats& s) {
+            return ordered_json{{"name", s.name}, {"min", s.min}, {"max", s.max}, {"active_voxels", s.active_voxels}};
+        };
+        ordered_json frame = {{"frame", f.number},
+                              {"file", f.file.filename().string()},
+                              {"grids", f.all_grid_names},
+                              {"density", stats(f.density_stats)},
+                              {"temperature", stats(f.temperature_stats)},
+                              {"voxel_size", f.voxel_size}};
+        if (!f.index_bounds.empty())
+            frame["index_bounds"] = {{f.index_bounds.min.x, f.index_bounds.min.y, f.index_bounds.min.z},
+                                     {f.index_bounds.max.x, f.index_bounds.max.y, f.index_bounds.max.z}};
+        if (f.cleaned_non_finite || f.cleaned_negative_density)
+            frame["cleaned"] = {{"non_finite", f.cleaned_non_finite}, {"negative_density", f.cleaned_negative_density}};
+        frames.push_back(frame);
+    }
+    info["frames"] = frames;
+    return info;
+}
+
+void printPackage(const ordered_json& info) {
+    std::printf("package %s\n  format version %s, %llu bytes\n", info["file"].get<std::string>().c_str(),
+                info["format_version"].get<std::string>().c_str(),
+                static_cast<unsigned long long>(info["file_bytes"].get<uint64_t>()));
+    if (info.contains("metadata") && info["metadata"].contains("bake")) {
+        const ordered_json& bake = info["metadata"]["bake"];
+        const ordered_json& bins = bake["temperature_bins"];
+        std::printf("  image %dx%d, %d bins over [%g, %g], rbf width %g dT, albedo %g, %zu light(s)\n",
+                    bake["width"].get<int>(), bake["height"].get<int>(), bins["count"].get<int>(),
+                    bins["t_lo"].get<double>(), bins["t_hi"].get<double>(), bake["rbf_width"].get<double>(),
+                    bake["albedo"].get<double>(), bake["light_directions"].size());
+        for (const char* axis : {"temperature_threshold", "smoke_extinction", "flame_extinction"})
+            std::printf("  %-22s %s\n", axis, bake["axes"][axis].dump().c_str());
+        std::printf("  frames (frame:rank):");
+        for (const ordered_json& f : bake["frames"]) std::printf(" %d:%d", f["frame"].get<int>(), f["rank"].get<int>());
+        std::printf("\n");
+    }
+    std::printf("  %-6s %7s %5s %12s %12s\n", "type", "frame", "codec", "stored", "raw");
+    for (const ordered_json& s : info["sections"])
+        std::printf("  %-6s %7s %5s %12llu %12llu\n", s["type"].get<std::string>().c_str(),
+                    s["frame"].is_null() ? "-" : std::to_string(s["frame"].get<uint32_t>()).c_str(),
+                    s["codec"].get<std::string>().c_str(),
+                    static_cast<unsigned long long>(s["stored_bytes"].get<uint64_t>()),
+                    static_cast<unsigned long long>(s["raw_bytes"].get<uint64_t>()));
+    std::printf("  (--json prints everything, including provenance, camera, lights and the default look)\n");
+}
+
+void printSequence(const ordered_json& info) {
+    std::printf("VDB sequence %s: %zu frames, density grid '%s', temperature grid '%s'\n",
+                info["source"].get<std::string>().c_str(), info["frames"].size(),
+                info["density_grid"].get<std::string>().c_str(), info["temperature_grid"].get<std::string>().c_str());
+    if (!info["gaps"].empty()) std::printf("  missing frames: %s\n", info["gaps"].dump().c_str());
+    std::printf("  world bounds %s .. %s\n", info["world_bounds"]["min"].dump().c_str(),
+                info["world_bounds"]["max"].dump().c_str());
+    std::printf("  %6s %10s %10s %10s %10s %10s %10s\n", "frame", "rho max", "rho voxels", "T min", "T max", "T voxels",
+                "voxel");
+    for (const ordered_json& f : info["frames"])
+        std::printf("  %6d %10.4g %10llu %10.4g %10.4g %10llu %10.4g\n", f["frame"].get<int>(),
+                    f["density"]["max"].get<double>(),
+                    static_cast<unsigned long long>(f["density"]["active_voxels"].get<uint64_t>()),
+                    f["temperature"]["min"].get<double>(), f["temperature"]["max"].get<double>(),
+                    static_cast<unsigned long long>(f["temperature"]["active_voxels"].get<uint64_t>()),
+                    f["voxel_size"].get<double>());
+}
+
+}  // namespace
+
+void registerInfoCommand(CLI::App& app) {
+    auto path = std::make_shared<std::string>();
+    auto json = std::make_shared<bool>(false);
+    CLI::App* cmd = app.add_subcommand("info", "Describe a .firelook package or a VDB sequence");
+    cmd->add_option("PATH", *path, "package file, folder of .vdb files, or a pattern such as fire_####.vdb")
+        ->required();
+    cmd->add_flag("--json", *json, "print JSON on stdout");
+    cmd->callback([path, json] {
+        const bool is_package = looksLikePackage(*path);
+        const ordered_json info = is_package ? packageInfo(*path) : sequenceInfo(*path);
+        if (*json)
+            std::printf("%s\n", info.dump(2).c_str());
+        else if (is_package)
+            printPackage(info);
+        else
+            printSequence(info);
+    });
+}
+
+}  // namespace firelook::cli

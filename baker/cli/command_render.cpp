@@ -1,0 +1,50 @@
+// firelook render PACKAGE --frame F [--look L.json] --out IMG (.exr or .png)
+#include <cstdio>
+
+#include "basis/basis_package.h"
+#include "basis/recombine.h"
+#include "cli/commands.h"
+#include "image/image_io.h"
+#include "look/look.h"
+
+namespace firelook::cli {
+
+void registerRenderCommand(CLI::App& app) {
+    struct Args {
+        std::string package, look, out;
+        int frame = 0;
+        double exposure = 0.0;
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* cmd = app.add_subcommand("render", "Recombine one frame of a package with a look into an image");
+    cmd->add_option("PACKAGE", args->package, ".firelook package")->required()->check(CLI::ExistingFile);
+    cmd->add_option("--frame", args->frame, "frame number")->required();
+    cmd->add_option("--look", args->look, "look file (default: the look recorded in the package)")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--out", args->out, "output image, .exr (linear premultiplied RGBA) or .png")->required();
+    cmd->add_option("--exposure", args->exposure, "PNG exposure in stops")->capture_default_str();
+    cmd->callback([args] {
+        const basis::BasisPackage package = basis::BasisPackage::open(args->package);
+        const basis::BakeDescription& d = package.description();
+        const Look look = args->look.empty() ? parseLook(d.default_look_json, args->package + " (default look)")
+                                             : loadLook(args->look);
+        if (std::abs(look.albedo - d.albedo) > 1e-6)
+            throw std::runtime_error((args->look.empty() ? args->package : args->look) + ": look albedo " +
+                                     std::to_string(look.albedo) + " differs from the package's baked albedo " +
+                                     std::to_string(d.albedo) + "; albedo is fixed at bake time");
+        const LookModel model = makeLookModel(look, d.bins, d.rbf_width, d.light_directions);
+        const basis::FrameFactors factors = package.loadFrame(args->frame);
+        std::vector<float> z(static_cast<size_t>(factors.rank) * 3);
+        const basis::LookWeights weights{look.extinction(), model.emission.coefficients, look.light_irradiance};
+        basis::computeCoefficients(d, factors, weights, z);
+        image::ImageRGBA image(d.width, d.height);
+        basis::reconstructImage(d, factors, basis::decodeU(factors), z, look.extinction(), image.pixels);
+        image::WriteOptions options;
+        options.png_exposure_stops = args->exposure;
+        image::writeImage(args->out, image, options);
+        std::printf("wrote %s (%dx%d, frame %d, rank %d)\n", args->out.c_str(), d.width, d.height, args->frame,
+                    factors.rank);
+    });
+}
+
+}  // namespace firelook::cli

@@ -1,0 +1,16 @@
+// Each `firelook` subcommand registers its options on the shared CLI11 app and
+// sets the callback that runs it. Adding a subcommand = one file + one line in
+// main.cpp. DESIGN.md section 6 fixes the command-line surface.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace firelook::cli {
+
+void registerInfoCommand(CLI::App& app);
+void registerReferenceCommand(CLI::App& app);
+void registerBakeCommand(CLI::App& app);
+void registerRenderCommand(CLI::App& app);
+void registerCompareCommand(CLI::App& app);
+
+}  // namespace firelook::cli

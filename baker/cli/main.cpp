@@ -1,0 +1,32 @@
+// `firelook`: the command line for baking, inspecting and checking packages.
+// Exit 0 on success; otherwise one line "firelook: error: ..." on stderr.
+#include <cstdio>
+#include <exception>
+
+#include "cli/commands.h"
+#include "cli/interrupt.h"
+#include "cli/version.h"
+
+int main(int argc, char** argv) {
+    CLI::App app{"FireLook: bake volumetric fire into basis-image packages and render any look"};
+    app.set_version_flag("--version", std::string("firelook ") + firelook::cli::kToolVersion);
+    app.require_subcommand(1);
+    firelook::cli::registerInfoCommand(app);
+    firelook::cli::registerReferenceCommand(app);
+    firelook::cli::registerBakeCommand(app);
+    firelook::cli::registerRenderCommand(app);
+    firelook::cli::registerCompareCommand(app);
+    firelook::cli::installInterruptHandler();
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    } catch (const firelook::cli::InterruptedError& e) {
+        std::fprintf(stderr, "firelook: %s\n", e.what());
+        return 130;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "firelook: error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,16 @@
+// Which file format a path names, from its extension.
+#pragma once
+
+#include <filesystem>
+
+namespace firelook::image::detail {
+
+enum class FileFormat { Exr, Png };
+
+// Throws ImageError naming the file when the extension is neither ".exr" nor ".png".
+FileFormat formatFromExtension(const std::filesystem::path& path);
+
+// The name OpenImageIO knows the format by, so a file can be opened whatever its own name.
+const char* oiioFormatName(FileFormat format);
+
+}  // namespace firelook::image::detail

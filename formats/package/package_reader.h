@@ -1,0 +1,82 @@
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "package/format.h"
+#include "package/mapped_file.h"
+
+namespace firelook::package {
+
+struct ReaderOptions {
+    // Map the file (POSIX mmap) instead of reading it into memory; falls back to reading when the
+    // mapping fails. Either way section data is 64-byte aligned in memory.
+    bool memory_map = true;
+    // The section types the caller understands (kMetadataType is always understood). Empty means
+    // every type, for inspection tools. A section of another type is skipped when optional and
+    // makes open() fail with UnsupportedFeature when required.
+    std::vector<uint32_t> understood_types;
+};
+
+// A validated, read-only package. open() checks the identifier, the version, both header
+// checksums, the index (every section 64-aligned, inside the file, in order, not overlapping,
+// with sane sizes, no duplicate (type, frame)) before returning. Section data is checked lazily:
+// the first read() or mapped() of a section verifies its XXH3-64 checksum (and remembers that it
+// passed), so opening a large package touches only its header and index.
+//
+// The const member functions are safe to call from several threads at once. Move-only; owns the
+// mapping, so spans from mapped() live as long as the reader. Every failure throws PackageError
+// naming the file. A mapped file must not be modified in place while open (PackageWriter never
+// does: it replaces files by rename).
+class PackageReader {
+  public:
+    static PackageReader open(const std::filesystem::path& file, const ReaderOptions& options = {});
+
+    PackageReader(PackageReader&&) noexcept = default;
+    PackageReader& operator=(PackageReader&&) noexcept = default;
+
+    FormatVersion version() const { return version_; }
+    const std::filesystem::path& file() const { return file_; }
+    uint64_t fileSize() const { return file_bytes_.bytes().size(); }
+    bool isMemoryMapped() const { return file_bytes_.isMemoryMapped(); }
+
+    // The usable sections in file order. Optional sections this reader does not understand (unknown
+    // type or codec, e.g. from a newer minor version) are omitted; skippedSectionCount() counts them.
+    std::span<const SectionInfo> sections() const { return sections_; }
+    std::size_t skippedSectionCount() const { return skipped_count_; }
+
+    // The section with this type and frame, or null. O(log n).
+    const SectionInfo* find(uint32_t type, uint32_t frame = kNoFrame) const;
+
+    // The decoded bytes of a section of this reader (InvalidArgument for any other SectionInfo),
+    // checksum-verified, with the decoded length checked against the index.
+    std::vector<std::byte> read(const SectionInfo& section) const;
+
+    // A zero-copy, 64-byte aligned view of a Raw section (InvalidArgument for Zstd), checksum-verified.
+    std::span<const std::byte> mapped(const SectionInfo& section) const;
+
+    // The text of the kMetadataType section, if the package has one.
+    std::optional<std::string> metadata() const;
+
+  private:
+    PackageReader() = default;
+    std::size_t indexOf(const SectionInfo& section, const char* operation) const;
+    std::span<const std::byte> verifiedStoredBytes(std::size_t index) const;
+
+    std::filesystem::path file_;
+    detail::MappedFile file_bytes_;
+    FormatVersion version_;
+    std::vector<SectionInfo> sections_;
+    std::vector<uint32_t> lookup_order_;             // indices into sections_, sorted by (type, frame)
+    std::unique_ptr<std::atomic<bool>[]> verified_;  // per section: checksum already matched
+    std::size_t skipped_count_ = 0;
+};
+
+}  // namespace firelook::package

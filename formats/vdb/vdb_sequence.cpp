@@ -1,0 +1,39 @@
+#include "vdb/vdb_sequence.h"
+
+#include <algorithm>
+
+#include "frame_reading.h"
+#include "grid_names.h"
+
+namespace firelook::vdb {
+
+VdbSequence VdbSequence::open(const std::string& folder_or_pattern, ReadOptions options) {
+    VdbSequence sequence;
+    sequence.source_ = folder_or_pattern;
+    sequence.frames_ = findFrameFiles(folder_or_pattern);
+    const std::filesystem::path& first = sequence.frames_.front().path;
+    resolveGridNames(options, listGridNames(first), first);
+    sequence.options_ = std::move(options);
+    for (const FrameFile& frame : sequence.frames_) {
+        sequence.world_bounds_.extend(readDensitySupportBounds(frame.path, sequence.options_));
+    }
+    return sequence;
+}
+
+bool VdbSequence::hasFrame(int frame_number) const {
+    return std::any_of(frames_.begin(), frames_.end(),
+                       [frame_number](const FrameFile& frame) { return frame.number == frame_number; });
+}
+
+VolumeFrame VdbSequence::load(int frame_number) const {
+    const auto frame = std::find_if(frames_.begin(), frames_.end(),
+                                    [frame_number](const FrameFile& f) { return f.number == frame_number; });
+    if (frame == frames_.end()) {
+        throw VdbError(source_ + ": no frame " + std::to_string(frame_number) + " (frames " +
+                       std::to_string(frames_.front().number) + " to " +
+                       std::to_string(frames_.back().number) + (gaps().empty() ? "" : ", with gaps") + ")");
+    }
+    return loadFrame(*frame, options_);
+}
+
+}  // namespace firelook::vdb

@@ -1,0 +1,72 @@
+#include "basis/bake_description.h"
+
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+namespace firelook::basis {
+
+using nlohmann::json;
+
+const FrameRecord* BakeDescription::findFrame(int frame) const {
+    for (const FrameRecord& record : frames)
+        if (record.frame == frame) return &record;
+    return nullptr;
+}
+
+std::string bakeDescriptionToJson(const BakeDescription& d) {
+    json lights = json::array();
+    for (const glm::dvec3& dir : d.light_directions) lights.push_back({dir.x, dir.y, dir.z});
+    json frames = json::array();
+    for (const FrameRecord& f : d.frames) frames.push_back({{"frame", f.frame}, {"rank", f.rank}});
+    const json j = {
+        {"temperature_bins", {{"t_lo", d.bins.t_lo}, {"t_hi", d.bins.t_hi}, {"count", d.bins.count}}},
+        {"rbf_width", d.rbf_width},
+        {"rbf_fit", "non-negative least squares"},
+        {"albedo", d.albedo},
+        {"axes",
+         {{"temperature_threshold", d.axes.temperature_threshold},
+          {"smoke_extinction", d.axes.smoke_extinction},
+          {"flame_extinction", d.axes.flame_extinction}}},
+        {"alpha_thresholds", d.alpha_thresholds},
+        {"light_directions", lights},
+        {"width", d.width},
+        {"height", d.height},
+        {"frames", frames},
+        {"default_look", json::parse(d.default_look_json.empty() ? "null" : d.default_look_json)},
+    };
+    return j.dump(2);
+}
+
+BakeDescription parseBakeDescription(const std::string& json_text, const std::string& source) {
+    try {
+        const json j = json::parse(json_text);
+        BakeDescription d;
+        const json& bins = j.at("temperature_bins");
+        d.bins.t_lo = bins.at("t_lo").get<double>();
+        d.bins.t_hi = bins.at("t_hi").get<double>();
+        d.bins.count = bins.at("count").get<int>();
+        d.rbf_width = j.at("rbf_width").get<double>();
+        d.albedo = j.at("albedo").get<double>();
+        const json& axes = j.at("axes");
+        d.axes.temperature_threshold = axes.at("temperature_threshold").get<std::vector<double>>();
+        d.axes.smoke_extinction = axes.at("smoke_extinction").get<std::vector<double>>();
+        d.axes.flame_extinction = axes.at("flame_extinction").get<std::vector<double>>();
+        d.alpha_thresholds = j.at("alpha_thresholds").get<std::vector<double>>();
+        for (const json& l : j.at("light_directions"))
+            d.light_directions.emplace_back(l.at(0).get<double>(), l.at(1).get<double>(), l.at(2).get<double>());
+        d.width = j.at("width").get<int>();
+        d.height = j.at("height").get<int>();
+        for (const json& f : j.at("frames")) d.frames.push_back({f.at("frame").get<int>(), f.at("rank").get<int>()});
+        if (j.contains("default_look") && !j["default_look"].is_null()) d.default_look_json = j["default_look"].dump();
+
+        validateAxes(d.axes);
+        if (d.bins.count < 1 || !(d.bins.t_hi > d.bins.t_lo)) throw std::invalid_argument("invalid temperature bins");
+        if (d.width < 1 || d.height < 1) throw std::invalid_argument("invalid image size");
+        if (d.alpha_thresholds.empty()) throw std::invalid_argument("no alpha thresholds");
+        return d;
+    } catch (const std::exception& e) {
+        throw std::runtime_error(source + ": invalid bake description: " + e.what());
+    }
+}
+
+}  // namespace firelook::basis

@@ -1,0 +1,43 @@
+// What a baked package holds and how to read its factors: the numbers the
+// runtime needs to turn a look into an image. Stored as the "bake" object of
+// the package's META JSON (docs/package-format.md, "Baked basis layout").
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "basis/parameter_grid.h"
+#include "look/look_model.h"
+
+namespace firelook::basis {
+
+struct FrameRecord {
+    int frame = 0;
+    int rank = 0;
+};
+
+struct BakeDescription {
+    TemperatureBins bins;
+    double rbf_width = 0.9;          // Gaussian RBF width in units of dT
+    double albedo = 0.8;             // fixed at bake time
+    ParameterAxes axes;              // sampled extinction parameters
+    std::vector<double> alpha_thresholds;  // T_c samples of the per-pixel optical depth maps
+    std::vector<glm::dvec3> light_directions;  // direction each light travels, world space
+    int width = 0;
+    int height = 0;
+    std::vector<FrameRecord> frames;
+    std::string default_look_json;   // a firelook-look document
+
+    int columnsPerPoint() const { return bins.count + static_cast<int>(light_directions.size()); }
+    int columnCount() const { return axes.pointCount() * columnsPerPoint(); }
+    int pixelCount() const { return width * height; }
+    const FrameRecord* findFrame(int frame) const;
+};
+
+// JSON of the "bake" object; parse errors throw std::runtime_error naming `source`.
+std::string bakeDescriptionToJson(const BakeDescription& description);
+BakeDescription parseBakeDescription(const std::string& json_text, const std::string& source);
+
+}  // namespace firelook::basis

@@ -1,0 +1,48 @@
+// Reading and writing the baked basis in a .firelook package: which sections
+// hold what (docs/package-format.md, "Baked basis layout"). The container
+// itself (checksums, zstd, atomic writes) is formats/package.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "basis/bake_description.h"
+#include "basis/frame_factors.h"
+#include "package/package_reader.h"
+#include "package/package_writer.h"
+
+namespace firelook::basis {
+
+inline constexpr uint32_t kSectionU = package::makeFourCC('U', 'F', 'A', 'C');          // U, half, per frame
+inline constexpr uint32_t kSectionSVt = package::makeFourCC('S', 'V', 'T', 'F');        // S V^T, float, per frame
+inline constexpr uint32_t kSectionDepths = package::makeFourCC('O', 'D', 'E', 'P');     // optical depths, per frame
+
+// Adds the three sections of one frame.
+void writeFrameFactors(package::PackageWriter& writer, const FrameFactors& factors);
+
+// The META document: {"format": "firelook-basis", "bake": <description>, ...extra}.
+// `extra_json` is a JSON object whose members are added beside "bake" (provenance, errors).
+std::string makeMetadata(const BakeDescription& description, const std::string& extra_json);
+
+class BasisPackage {
+public:
+    // Throws package::PackageError or std::runtime_error naming the file.
+    static BasisPackage open(const std::filesystem::path& file);
+
+    const BakeDescription& description() const { return description_; }
+    const std::string& metadataJson() const { return metadata_; }
+    const std::filesystem::path& file() const { return reader_.file(); }
+    const package::PackageReader& reader() const { return reader_; }
+    // Decompresses and validates one frame (sizes against the description).
+    FrameFactors loadFrame(int frame) const;
+
+private:
+    BasisPackage(package::PackageReader reader, BakeDescription description, std::string metadata)
+        : reader_(std::move(reader)), description_(std::move(description)), metadata_(std::move(metadata)) {}
+
+    package::PackageReader reader_;
+    BakeDescription description_;
+    std::string metadata_;
+};
+
+}  // namespace firelook::basis

@@ -1,0 +1,47 @@
+// The sampled extinction parameters theta = (T_c, k_s, k_f) of a bake, and the
+// interpolation weights that blend basis images between grid points
+// (DESIGN.md section 2). An axis with one value is "collapsed": that parameter
+// was fixed at bake time and any request for it uses the baked value.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "look/look_model.h"
+
+namespace firelook::basis {
+
+struct ParameterAxes {
+    std::vector<double> temperature_threshold;  // T_c samples, strictly increasing
+    std::vector<double> smoke_extinction;       // k_s samples
+    std::vector<double> flame_extinction;       // k_f samples
+
+    int pointCount() const {
+        return static_cast<int>(temperature_threshold.size() * smoke_extinction.size() *
+                                flame_extinction.size());
+    }
+    // Grid point index of (i_tc, i_ks, i_kf); k_f varies fastest.
+    int pointIndex(int i_tc, int i_ks, int i_kf) const {
+        return (i_tc * static_cast<int>(smoke_extinction.size()) + i_ks) *
+                   static_cast<int>(flame_extinction.size()) +
+               i_kf;
+    }
+    ExtinctionParams point(int index) const;
+};
+
+// Up to 8 grid points with non-zero weight (trilinear), weights sum to 1.
+struct GridWeights {
+    int count = 0;
+    std::array<int, 8> point{};
+    std::array<float, 8> weight{};
+};
+
+// Linear interpolation per axis; a request outside an axis's range is clamped
+// to its ends (the baked range is what the package can reproduce).
+GridWeights interpolationWeights(const ParameterAxes& axes, const ExtinctionParams& theta);
+
+// Throws std::invalid_argument naming the axis if it is empty, unsorted or non-finite.
+void validateAxes(const ParameterAxes& axes);
+
+}  // namespace firelook::basis

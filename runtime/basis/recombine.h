@@ -1,0 +1,38 @@
+// From a look to an image: the per-frame coefficient vectors z = S V^T w and
+// the reconstruction image = U z, with alpha from the exact optical depths
+// (DESIGN.md section 2). This is the runtime's hot path: no allocation here.
+#pragma once
+
+#include <span>
+
+#include "basis/bake_description.h"
+#include "basis/frame_factors.h"
+#include "look/look_model.h"
+
+namespace firelook::basis {
+
+// Everything about a look that the recombination uses.
+struct LookWeights {
+    ExtinctionParams extinction;
+    std::span<const Rgb> rbf_coefficients;  // c_i per bin (EmissionFunction::coefficients)
+    std::span<const Rgb> light_irradiance;  // E_l per baked light
+};
+
+// z_out: rank x 3, z_out[k * 3 + channel]. Throws std::invalid_argument when the
+// spans do not match the description (wrong bin or light count, short output).
+void computeCoefficients(const BakeDescription& description, const FrameFactors& factors,
+                         const LookWeights& look, std::span<float> z_out);
+
+// rgba_out: pixels x 4, premultiplied linear RGBA, top row first. u_float is
+// decodeU(factors). Negative radiance (truncation ringing) is clamped to 0 and a
+// non-finite value can never be written.
+void reconstructImage(const BakeDescription& description, const FrameFactors& factors,
+                      std::span<const float> u_float, std::span<const float> z,
+                      const ExtinctionParams& extinction, std::span<float> rgba_out);
+
+// alpha = 1 - exp(-(a O_a(T_c) + b O_b)) for one pixel; O_a interpolated linearly
+// in T_c between the alpha threshold samples.
+float pixelAlpha(const BakeDescription& description, const FrameFactors& factors, int pixel,
+                 const ExtinctionParams& extinction);
+
+}  // namespace firelook::basis

@@ -1,0 +1,61 @@
+#pragma once
+
+// Helpers shared by the package tests: a self-removing temporary folder, whole-file I/O, test
+// data, and re-sealing a deliberately edited package (recomputing its checksums) so a test can
+// craft an inconsistent file that is not caught by a checksum first.
+
+#include <gtest/gtest.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "package/error.h"
+#include "package/format.h"
+
+namespace firelook::package::test {
+
+class TempDir {
+  public:
+    TempDir();
+    ~TempDir();
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+    const std::filesystem::path& path() const { return path_; }
+    std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+    // Every entry name in the folder, sorted.
+    std::vector<std::string> entries() const;
+
+  private:
+    std::filesystem::path path_;
+};
+
+std::vector<std::byte> readFile(const std::filesystem::path& file);
+void writeFile(const std::filesystem::path& file, std::span<const std::byte> bytes);
+
+// Floats that look like an image factor: a smooth field plus a little noise (seeded, reproducible).
+std::vector<float> smoothFloats(std::size_t count, uint32_t seed);
+
+template <typename T>
+std::span<const std::byte> asBytes(const std::vector<T>& values) {
+    return std::as_bytes(std::span(values));
+}
+
+FileHeader headerOf(std::span<const std::byte> file);
+IndexEntry indexEntryOf(std::span<const std::byte> file, uint32_t index);
+void setHeader(std::vector<std::byte>& file, const FileHeader& header);
+void setIndexEntry(std::vector<std::byte>& file, uint32_t index, const IndexEntry& entry);
+// Recomputes the index and header checksums after an edit.
+void reseal(std::vector<std::byte>& file);
+// XXH3-64 as the format uses it.
+uint64_t xxh3(std::span<const std::byte> bytes);
+
+// Runs `action` and expects a PackageError with `code` whose message names `file`.
+void expectPackageError(const std::function<void()>& action, ErrorCode code,
+                        const std::filesystem::path& file);
+
+}  // namespace firelook::package::test

@@ -1,0 +1,431 @@
+// The reference path tracer against closed forms of the model (DESIGN.md sections 1, 4, 5).
+//
+// Tolerances: every pixel's mean must lie within 6 standard errors of the exact value, and the sum
+// over all pixels within 4 standard errors of the exact sum (pixels are independent, so its
+// variance is the sum of theirs). For a normal estimator with a known variance a false failure
+// would have probability ~2e-9 per pixel check and ~6e-5 per sum, but a pixel's variance is itself
+// estimated from 64-128 skewed samples: over 80 other seeds (2..81) the worst pixel was 5.8
+// estimated standard errors off, hence 6 for pixels. The seeds are fixed, so a run is reproducible.
+// - RGB: the standard error is estimated from the pixel's own samples
+//   (ReferenceResult::variance_of_mean).
+// - Alpha: ratio tracking's transmittance estimate lies in [0, 1], and a [0, 1]-valued variable of
+//   mean m has variance at most m (1 - m) (the binomial one), so the standard error is at most
+//   sqrt(Tr (1 - Tr) / spp) with the exact Tr. The estimated variance cannot be used: in a
+//   homogeneous medium the estimate is almost always exactly 0 or 1, and a pixel may see no 1.
+// - A relative 2e-5 more: majorants exceed sigma_t by a 1e-5 safety factor, so in a homogeneous
+//   medium ~1e-5 of the answer rides on rare Russian-roulette survivors (~5e-4 per sample) that a
+//   pixel's samples usually miss without it showing in their spread; float storage adds 6e-8.
+// Exact values are averaged over each pixel's footprint on an 8x8 grid of rays; with the narrow
+// fields of view used here they vary by < 1e-4 relative across a pixel, so the quadrature error
+// is far below the noise.
+#include "render/reference_tracer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <glm/geometric.hpp>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "render/camera.h"
+#include "render/medium.h"
+#include "render/render_error.h"
+#include "render_test_support.h"
+
+namespace firelook::render {
+namespace {
+
+using test::makeLook;
+
+constexpr double kPixelStandardErrors = 6.0;
+constexpr double kSumStandardErrors = 4.0;
+constexpr double kRelativeSlack = 2e-5;
+
+struct Expected {
+    std::vector<glm::dvec4> rgba;  // per pixel: radiance and alpha
+};
+
+// The exact pixel values: f(ray) -> (r, g, b, alpha) averaged over each pixel's footprint.
+template <class F>
+Expected footprintAverage(const Camera& camera, F f) {
+    constexpr int kGrid = 8;
+    Expected e;
+    for (int py = 0; py < camera.height(); ++py)
+        for (int px = 0; px < camera.width(); ++px) {
+            glm::dvec4 sum(0.0);
+            for (int j = 0; j < kGrid; ++j)
+                for (int i = 0; i < kGrid; ++i)
+                    sum += f(camera.generateRay(px, py, (i + 0.5) / kGrid, (j + 0.5) / kGrid));
+            e.rgba.push_back(sum / double(kGrid * kGrid));
+        }
+    return e;
+}
+
+enum class Check { kPixelsAndSum, kSumOnly };
+
+void expectMatches(const ReferenceResult& r, const Expected& expected, Check check = Check::kPixelsAndSum) {
+    ASSERT_EQ(r.image.rgba.size(), 4 * expected.rgba.size());
+    const double n = r.samples_per_pixel_done;
+    for (int ch = 0; ch < 4; ++ch) {
+        double difference_sum = 0.0, variance_sum = 0.0, magnitude_sum = 0.0;
+        for (std::size_t p = 0; p < expected.rgba.size(); ++p) {
+            const double got = r.image.rgba[4 * p + ch], want = expected.rgba[p][ch];
+            const double variance =
+                ch < 3 ? r.variance_of_mean.rgba[4 * p + ch] : std::max(0.0, want * (1.0 - want)) / n;
+            if (check == Check::kPixelsAndSum) {
+                EXPECT_NEAR(got, want,
+                            kPixelStandardErrors * std::sqrt(variance) + kRelativeSlack * std::abs(want))
+                    << "pixel " << p << " channel " << ch;
+            }
+            difference_sum += got - want;
+            variance_sum += variance;
+            magnitude_sum += std::abs(want);
+        }
+        EXPECT_NEAR(difference_sum, 0.0,
+                    kSumStandardErrors * std::sqrt(variance_sum) + kRelativeSlack * magnitude_sum)
+            << "channel " << ch << " summed over pixels";
+    }
+}
+
+bool allFinite(const RenderImage& image) {
+    for (float x : image.rgba)
+        if (!std::isfinite(x)) return false;
+    return true;
+}
+
+// A camera 10 units up the +Z axis looking at the origin through a 2-degree field of view: its
+// rays cross a 2-unit box centred on the origin well inside its faces (|x|, |y| < 0.3 < 0.875,
+// where the ramps of the faces begin).
+Camera narrowCamera(int size = 8) {
+    return Camera::lookAt({0.0, 0.0, 10.0}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, 2.0 * std::numbers::pi / 180.0,
+                          size, size);
+}
+
+// Path length of a narrowCamera ray inside the box [-1, 1]^3 (it enters and leaves through the z faces).
+double pathInBox(const Ray& ray) { return 2.0 / std::abs(ray.direction.z); }
+
+// A unit-density box of side 2 centred on the origin, at temperature 0.5.
+const Medium& unitBox() {
+    static const Medium medium = Medium::homogeneousBox(glm::dvec3(2.0), glm::ivec3(8), 1.0f, 0.5f);
+    return medium;
+}
+
+TEST(ReferenceTracer, EmissionOnlyBoxGivesEmissionTimesLength) {
+    // k_s = k_f = 0: a pure emitter. L = j d with j = rho L_e(T), and nothing absorbs: alpha = 0.
+    const LookModel look = makeLook(0.0, 0.0, 0.5, 0.8, Rgb(1.0f, 2.0f, 0.5f));
+    const glm::dvec3 j(look.emission.evaluate(0.5));
+    const Camera camera = narrowCamera();
+    ReferenceSettings settings;
+    settings.samples_per_pixel = 64;
+    const ReferenceResult r = renderReference(unitBox(), look, camera, settings);
+    expectMatches(
+        r, footprintAverage(camera, [&](const Ray& ray) { return glm::dvec4(j * pathInBox(ray), 0.0); }));
+    for (std::size_t p = 3; p < r.image.rgba.size(); p += 4) EXPECT_EQ(r.image.rgba[p], 0.0f);
+    EXPECT_EQ(r.sanitized_samples, 0u);
+    EXPECT_GT(r.estimated_relative_rmse, 0.0);
+    EXPECT_LT(r.estimated_relative_rmse, 0.05);
+}
+
+TEST(ReferenceTracer, EmissionAndAbsorption) {
+    // Albedo 0: L = j / sigma_t (1 - exp(-sigma_t d)), alpha = 1 - exp(-sigma_t d). Exact with the
+    // box's ramps too, since j / sigma_t is the same everywhere.
+    const LookModel look = makeLook(0.75, 0.75, 0.5, 0.0, Rgb(1.0f, 2.0f, 0.5f));
+    const glm::dvec3 j(look.emission.evaluate(0.5));
+    const double sigma = 0.75;
+    const Camera camera = narrowCamera();
+    ReferenceSettings settings;
+    settings.samples_per_pixel = 64;
+    const ReferenceResult r = renderReference(unitBox(), look, camera, settings);
+    expectMatches(r, footprintAverage(camera, [&](const Ray& ray) {
+                      const double opacity = 1.0 - std::exp(-sigma * pathInBox(ray));
+                      return glm::dvec4(j / sigma * opacity, opacity);
+                  }));
+}
+
+TEST(ReferenceTracer, TransmittanceBelowAndAboveTheThreshold) {
+    // All voxels below T_c (kappa ~ k_s) and all above (kappa ~ k_f): alpha = 1 - exp(-kappa(T) d).
+    // No emission and no light: the radiance is exactly 0 even with scattering.
+    for (const float temperature : {0.05f, 0.95f}) {
+        const LookModel look = makeLook(2.0, 0.3, 0.5, 0.6, Rgb(0.0f));
+        const Medium box = Medium::homogeneousBox(glm::dvec3(2.0), glm::ivec3(8), 1.0f, temperature);
+        const double kappa = extinctionPerDensity(temperature, look.extinction, look.bins);
+        const Camera camera = narrowCamera();
+        ReferenceSettings settings;
+        settings.samples_per_pixel = 64;
+        const ReferenceResult r = renderReference(box, look, camera, settings);
+        expectMatches(r, footprintAverage(camera, [&](const Ray& ray) {
+                          return glm::dvec4(0.0, 0.0, 0.0, 1.0 - std::exp(-kappa * pathInBox(ray)));
+                      }));
+        for (std::size_t p = 0; p < r.image.rgba.size(); ++p) {
+            if (p % 4 != 3) {
+                ASSERT_EQ(r.image.rgba[p], 0.0f);
+            }
+        }
+    }
+}
+
+// A slab 0.5 thick (z in [-0.25, 0.25]) and 20 wide, seen from 5 units above through a 2-degree
+// field of view, lit by a directional light travelling straight down (-Z), i.e. from behind the
+// camera. For a view ray with |d.z| = c and slab optical depth tau (along z), the light reaching
+// optical depth u has travelled u, and the view ray reaches it after u / c:
+//   L1 = albedo E / (4 pi) * integral_0^tau exp(-u (1 + 1/c)) du / c
+//      = albedo E / (4 pi) * (1 - exp(-tau (1 + 1/c))) / (1 + c),
+// exact with the slab's ramps, because light and view see the same z profile.
+struct SlabScene {
+    double tau, albedo;
+    Rgb irradiance{1.0f, 0.5f, 2.0f};
+    Medium slab;
+    LookModel look;
+    Camera camera = Camera::lookAt({0.0, 0.0, 5.0}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0},
+                                   2.0 * std::numbers::pi / 180.0, 6, 6);
+
+    SlabScene(double optical_depth, double scattering_albedo)
+        : tau(optical_depth),
+          albedo(scattering_albedo),
+          slab(Medium::slab(0.5, 20.0, 1.0f, 0.5f)),
+          look(makeLook(tau / 0.5, tau / 0.5, 0.5, albedo, Rgb(0.0f))) {
+        look.lights.push_back(DirectionalLight{{0.0, 0.0, -1.0}, irradiance});
+    }
+    glm::dvec3 singleScattering(const Ray& ray) const {
+        const double c = std::abs(ray.direction.z);
+        return glm::dvec3(irradiance) * (albedo / (4.0 * std::numbers::pi)) *
+               (1.0 - std::exp(-tau * (1.0 + 1.0 / c))) / (1.0 + c);
+    }
+    double alpha(const Ray& ray) const { return 1.0 - std::exp(-tau / std::abs(ray.direction.z)); }
+};
+
+TEST(ReferenceTracer, SingleScatteringOfADirectionalLight) {
+    const SlabScene scene(1.0, 0.6);
+    ReferenceSettings settings;
+    settings.samples_per_pixel = 128;
+    settings.max_scattering_order = 1;
+    const ReferenceResult r = renderReference(scene.slab, scene.look, scene.camera, settings);
+    expectMatches(r, footprintAverage(scene.camera, [&](const Ray& ray) {
+                      return glm::dvec4(scene.singleScattering(ray), scene.alpha(ray));
+                  }));
+}
+
+TEST(ReferenceTracer, MultipleScatteringStaysWithinItsBound) {
+    // All orders on a thin slab (tau = 0.1). Bound on orders >= 2 (derived for this test): a single-
+    // scattered ray inside the slab gathers at most albedo E/(4 pi) min(1, tau/|mu|), so the mean
+    // radiance J_1 <= albedo E/(4 pi) g with g = integral_0^1 min(1, tau/mu) dmu = tau (1 + ln(1/tau));
+    // likewise J_k <= (albedo g) J_{k-1}. Order k seen along the view ray is at most
+    // albedo J_{k-1} tau / c, so orders >= 2 add at most
+    //   E/(4 pi) albedo (tau / c) (albedo g) / (1 - albedo g).
+    const SlabScene scene(0.1, 0.6);
+    const double g = scene.tau * (1.0 + std::log(1.0 / scene.tau));
+    const double ag = scene.albedo * g;
+    ReferenceSettings settings;
+    settings.samples_per_pixel = 128;
+    const ReferenceResult r = renderReference(scene.slab, scene.look, scene.camera, settings);
+    const Expected single = footprintAverage(
+        scene.camera, [&](const Ray& ray) { return glm::dvec4(scene.singleScattering(ray), 0.0); });
+    const Expected bound = footprintAverage(scene.camera, [&](const Ray& ray) {
+        const double c = std::abs(ray.direction.z);
+        return glm::dvec4(glm::dvec3(scene.irradiance) * (scene.albedo * scene.tau / c * ag / (1.0 - ag)) /
+                              (4.0 * std::numbers::pi),
+                          0.0);
+    });
+    for (int ch = 0; ch < 3; ++ch) {
+        double got = 0.0, low = 0.0, high = 0.0, variance = 0.0;
+        for (std::size_t p = 0; p < single.rgba.size(); ++p) {
+            got += r.image.rgba[4 * p + ch];
+            variance += r.variance_of_mean.rgba[4 * p + ch];
+            low += single.rgba[p][ch];
+            high += single.rgba[p][ch] + bound.rgba[p][ch];
+        }
+        const double slack = kSumStandardErrors * std::sqrt(variance);
+        EXPECT_GT(got, low - slack) << "channel " << ch;
+        EXPECT_LT(got, high + slack) << "channel " << ch;
+    }
+}
+
+TEST(ReferenceTracer, EquilibriumInsideAnEmittingScatteringMediumConservesEnergy) {
+    // Camera inside a uniform medium, 30 optical units from every face. Deep inside, dL/ds = 0:
+    // -sigma_t L + j + albedo sigma_t L = 0, so L = j / (sigma_t (1 - albedo)) in every direction:
+    // the sum over every order of scattering. The faces' influence decays like
+    // exp(-sqrt(3 (1 - albedo)) * 30) <= 1e-7 (diffusion length), far below the noise.
+    // Only the sum over pixels is checked: each path is nearly deterministic up to the roulette
+    // depth, and the share of the answer beyond it (~0.4% at albedo 0.5) rides on roulette
+    // survivors, a few per pixel, too few for a per-pixel variance estimate; all pixels have the
+    // same expectation, and over the image the survivors number in the hundreds.
+    const Medium big = Medium::homogeneousBox(glm::dvec3(60.0), glm::ivec3(8), 1.0f, 0.5f);
+    for (const double albedo : {0.0, 0.5, 0.9}) {
+        const LookModel look = makeLook(1.0, 1.0, 0.5, albedo, Rgb(1.0f, 0.3f, 2.0f));
+        const glm::dvec3 j(look.emission.evaluate(0.5));
+        const Camera camera =
+            Camera::lookAt({0.0, 0.0, 0.0}, {0.3, 1.0, 0.2}, {0.0, 0.0, 1.0}, std::numbers::pi / 3.0, 8, 8);
+        ReferenceSettings settings;
+        settings.samples_per_pixel = 64;
+        const ReferenceResult r = renderReference(big, look, camera, settings);
+        // alpha: transmittance exp(-30) ~ 1e-13 is below the float image's resolution of 1.
+        expectMatches(
+            r, footprintAverage(camera, [&](const Ray&) { return glm::dvec4(j / (1.0 - albedo), 1.0); }),
+            Check::kSumOnly);
+    }
+}
+
+// A sparse, fire-like random medium: hot core, cooler smoke around, empty outside.
+Medium fireBall(int n) {
+    std::mt19937 gen(17);
+    std::uniform_real_distribution<float> noise(0.7f, 1.3f);
+    std::vector<float> density, temperature;
+    for (int k = 0; k < n; ++k)
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                const glm::dvec3 p = (glm::dvec3(i, j, k) + 0.5) / double(n) - 0.5;
+                const double r = 2.0 * glm::length(p);
+                density.push_back(r < 0.8 ? float((0.8 - r) * 2.0) * noise(gen) : 0.0f);
+                temperature.push_back(float(std::max(0.0, 1.0 - r)));
+            }
+    glm::dmat4 index_to_world(1.0);
+    for (int axis = 0; axis < 3; ++axis) index_to_world[axis][axis] = 2.0 / n;
+    index_to_world[3] = glm::dvec4(-1.0, -1.0, -1.0, 1.0);
+    return Medium(glm::ivec3(0), glm::ivec3(n), density, temperature, index_to_world, 0.0f);
+}
+
+LookModel fireLook() {
+    LookModel look = makeLook(3.0, 0.8, 0.5, 0.7, Rgb(0.0f));
+    look.emission.coefficients = {Rgb(0.0f), Rgb(0.5f, 0.1f, 0.0f), Rgb(3.0f, 1.0f, 0.2f),
+                                  Rgb(8.0f, 5.0f, 2.0f)};
+    look.lights.push_back(
+        DirectionalLight{glm::normalize(glm::dvec3(0.3, -1.0, -0.4)), Rgb(1.0f, 0.9f, 0.8f)});
+    return look;
+}
+
+TEST(ReferenceTracer, SameSeedSameBytesWhateverTheThreadCount) {
+    const Medium medium = fireBall(20);
+    const LookModel look = fireLook();
+    const Camera camera = defaultCamera({-1, -1, -1}, {1, 1, 1}, UpAxis::Y, 12, 10);
+    ReferenceSettings settings;
+    settings.samples_per_pixel = 6;
+    settings.threads = 1;
+    const ReferenceResult one = renderReference(medium, look, camera, settings);
+    settings.threads = 2;
+    const ReferenceResult two = renderReference(medium, look, camera, settings);
+    settings.threads = 0;
+    const ReferenceResult all = renderReference(medium, look, camera, settings);
+    ASSERT_EQ(one.image.rgba.size(), 12u * 10u * 4u);
+    EXPECT_EQ(
+        std::memcmp(one.image.rgba.data(), two.image.rgba.data(), one.image.rgba.size() * sizeof(float)), 0);
+    EXPECT_EQ(
+        std::memcmp(one.image.rgba.data(), all.image.rgba.data(), one.image.rgba.size() * sizeof(float)), 0);
+    EXPECT_TRUE(allFinite(one.image));
+    EXPECT_EQ(one.sanitized_samples, 0u);
+    settings.seed = 2;
+    const ReferenceResult other = renderReference(medium, look, camera, settings);
+    EXPECT_NE(
+        std::memcmp(one.image.rgba.data(), other.image.rgba.data(), one.image.rgba.size() * sizeof(float)),
+        0);
+}
+
+TEST(ReferenceTracer, ReportsProgressAndStopsWhenAsked) {
+    const Medium medium = fireBall(12);
+    const LookModel look = fireLook();
+    const Camera camera = defaultCamera({-1, -1, -1}, {1, 1, 1}, UpAxis::Y, 6, 6);
+    ReferenceSettings settings;
+    settings.samples_per_pixel = 20;
+    std::vector<double> progress;
+    const ReferenceResult full = renderReference(medium, look, camera, settings, [&](double p) {
+        progress.push_back(p);
+        return true;
+    });
+    // Passes of 1, 2, 4, 8 and the remaining 5 samples; no call after the last pass.
+    EXPECT_EQ(progress, (std::vector<double>{1.0 / 20, 3.0 / 20, 7.0 / 20, 15.0 / 20}));
+    EXPECT_FALSE(full.cancelled);
+    EXPECT_EQ(full.samples_per_pixel_done, 20);
+
+    const ReferenceResult stopped =
+        renderReference(medium, look, camera, settings, [](double) { return false; });
+    EXPECT_TRUE(stopped.cancelled);
+    EXPECT_EQ(stopped.samples_per_pixel_done, 1);
+    EXPECT_TRUE(std::isinf(stopped.estimated_relative_rmse));  // one sample: no spread to measure
+    // The samples taken are those a 1-sample render takes: pass boundaries do not change them.
+    settings.samples_per_pixel = 1;
+    const ReferenceResult one = renderReference(medium, look, camera, settings);
+    EXPECT_EQ(
+        std::memcmp(one.image.rgba.data(), stopped.image.rgba.data(), one.image.rgba.size() * sizeof(float)),
+        0);
+}
+
+TEST(ReferenceTracer, HugeExtinctionIsOpaqueAndFinite) {
+    // Optical depth 2000 across: exp(-2000) underflows even a double.
+    for (const double albedo : {0.8, 1.0}) {
+        LookModel look = fireLook();
+        look.extinction = ExtinctionParams{0.5, 1e3, 1e3};
+        look.albedo = albedo;
+        const Medium box = Medium::homogeneousBox(glm::dvec3(2.0), glm::ivec3(8), 1.0f, 0.9f);
+        const Camera camera = narrowCamera(2);
+        ReferenceSettings settings;
+        settings.samples_per_pixel = albedo < 1.0 ? 8 : 1;  // albedo 1: long (but bounded) walks
+        const ReferenceResult r = renderReference(box, look, camera, settings);
+        ASSERT_TRUE(allFinite(r.image));
+        EXPECT_EQ(r.sanitized_samples, 0u);
+        for (std::size_t p = 0; p < r.image.rgba.size(); p += 4) {
+            // Transmittance exp(-2000); ratio tracking's roulette ends every camera ray at weight 0
+            // but with probability ~ 1e-5 * 50 per sample (a weight 1e-5 surviving as 0.02).
+            EXPECT_GT(r.image.rgba[p + 3], 0.99f);
+            for (int ch = 0; ch < 3; ++ch) EXPECT_GE(r.image.rgba[p + ch], 0.0f);
+        }
+    }
+}
+
+TEST(ReferenceTracer, CameraLookingAwaySeesNothing) {
+    const Medium medium = fireBall(12);
+    const Camera camera = Camera::lookAt({0.0, 0.0, 3.0}, {0.0, 0.0, 6.0}, {0.0, 1.0, 0.0}, 0.5, 5, 4);
+    ReferenceSettings settings;
+    settings.samples_per_pixel = 4;
+    const ReferenceResult r = renderReference(medium, fireLook(), camera, settings);
+    for (float x : r.image.rgba) ASSERT_EQ(x, 0.0f);
+    EXPECT_EQ(r.estimated_relative_rmse, 0.0);
+}
+
+TEST(ReferenceTracer, EmptyAndDirtyMediaRenderCleanly) {
+    const Camera camera = defaultCamera({-1, -1, -1}, {1, 1, 1}, UpAxis::Z, 5, 5);
+    ReferenceSettings settings;
+    settings.samples_per_pixel = 4;
+    const ReferenceResult empty = renderReference(Medium(), fireLook(), camera, settings);
+    for (float x : empty.image.rgba) ASSERT_EQ(x, 0.0f);
+
+    std::vector<float> density(27, 1.0f), temperature(27, 0.7f);
+    density[4] = std::numeric_limits<float>::quiet_NaN();
+    density[13] = std::numeric_limits<float>::infinity();
+    density[20] = -5.0f;
+    temperature[13] = std::numeric_limits<float>::quiet_NaN();
+    glm::dmat4 index_to_world(0.5);
+    index_to_world[3] = glm::dvec4(-0.5, -0.5, -0.5, 1.0);
+    const Medium dirty(glm::ivec3(0), glm::ivec3(3), density, temperature, index_to_world, 0.0f);
+    EXPECT_EQ(dirty.sanitizedValues(), 4u);
+    const ReferenceResult r = renderReference(dirty, fireLook(), camera, settings);
+    EXPECT_TRUE(allFinite(r.image));
+    EXPECT_EQ(r.sanitized_samples, 0u);
+}
+
+TEST(ReferenceTracer, RejectsInvalidSettings) {
+    ReferenceSettings settings;
+    settings.samples_per_pixel = 0;
+    EXPECT_THROW(renderReference(unitBox(), fireLook(), narrowCamera(2), settings), RenderError);
+    settings.samples_per_pixel = 1;
+    LookModel look = fireLook();
+    look.lights[0].direction = glm::dvec3(0.0);
+    EXPECT_THROW(renderReference(unitBox(), look, narrowCamera(2), settings), RenderError);
+}
+
+TEST(ImageMetrics, RelativeRmseAndAlphaError) {
+    const RenderImage reference{1, 2, {1, 2, 2, 0.5f, 0, 0, 0, 1}};
+    RenderImage doubled = reference;
+    for (float& x : doubled.rgba) x *= 2.0f;
+    EXPECT_DOUBLE_EQ(relativeRmse(reference, reference), 0.0);
+    EXPECT_DOUBLE_EQ(relativeRmse(doubled, reference), 1.0);  // |2r - r| / |r|
+    EXPECT_DOUBLE_EQ(maxAlphaError(doubled, reference), 1.0);
+    const RenderImage black{1, 2, std::vector<float>(8, 0.0f)};
+    EXPECT_TRUE(std::isinf(relativeRmse(reference, black)));
+    EXPECT_EQ(relativeRmse(black, black), 0.0);
+    EXPECT_THROW(relativeRmse(RenderImage{2, 1, std::vector<float>(8)}, reference), RenderError);
+}
+
+}  // namespace
+}  // namespace firelook::render
