@@ -2,7 +2,7 @@
 #include <cstdio>
 
 #include "basis/basis_package.h"
-#include "basis/recombine.h"
+#include "basis/look_renderer.h"
 #include "cli/commands.h"
 #include "image/image_io.h"
 #include "look/look.h"
@@ -28,17 +28,9 @@ void registerRenderCommand(CLI::App& app) {
         const basis::BakeDescription& d = package.description();
         const Look look = args->look.empty() ? parseLook(d.default_look_json, args->package + " (default look)")
                                              : loadLook(args->look);
-        if (std::abs(look.albedo - d.albedo) > 1e-6)
-            throw std::runtime_error((args->look.empty() ? args->package : args->look) + ": look albedo " +
-                                     std::to_string(look.albedo) + " differs from the package's baked albedo " +
-                                     std::to_string(d.albedo) + "; albedo is fixed at bake time");
-        const LookModel model = makeLookModel(look, d.bins, d.rbf_width, d.light_directions);
         const basis::FrameFactors factors = package.loadFrame(args->frame);
-        std::vector<float> z(static_cast<size_t>(factors.rank) * 3);
-        const basis::LookWeights weights{look.extinction(), model.emission.coefficients, look.light_irradiance};
-        basis::computeCoefficients(d, factors, weights, z);
         image::ImageRGBA image(d.width, d.height);
-        basis::reconstructImage(d, factors, basis::decodeU(factors), z, look.extinction(), image.pixels);
+        basis::renderLookImage(d, factors, basis::decodeU(factors), look, image.pixels);
         image::WriteOptions options;
         options.png_exposure_stops = args->exposure;
         image::writeImage(args->out, image, options);

@@ -12,5 +12,6 @@ void registerReferenceCommand(CLI::App& app);
 void registerBakeCommand(CLI::App& app);
 void registerRenderCommand(CLI::App& app);
 void registerCompareCommand(CLI::App& app);
+void registerAnimateCommand(CLI::App& app);
 
 }  // namespace firelook::cli

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
     firelook::cli::registerBakeCommand(app);
     firelook::cli::registerRenderCommand(app);
     firelook::cli::registerCompareCommand(app);
+    firelook::cli::registerAnimateCommand(app);
     firelook::cli::installInterruptHandler();
     try {
         app.parse(argc, argv);
