@@ -13,5 +13,6 @@ void registerBakeCommand(CLI::App& app);
 void registerRenderCommand(CLI::App& app);
 void registerCompareCommand(CLI::App& app);
 void registerAnimateCommand(CLI::App& app);
+void registerBenchCommand(CLI::App& app);
 
 }  // namespace firelook::cli

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
     firelook::cli::registerRenderCommand(app);
     firelook::cli::registerCompareCommand(app);
     firelook::cli::registerAnimateCommand(app);
+    firelook::cli::registerBenchCommand(app);
     firelook::cli::installInterruptHandler();
     try {
         app.parse(argc, argv);

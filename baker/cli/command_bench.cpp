@@ -1,0 +1,269 @@
+// firelook bench SEQUENCE --package P [--frames 3,7,11] [--looks 20] [--spp 1024] [--split] [--json OUT]
+//
+// Accuracy of a baked package against the reference path tracer (DESIGN.md
+// section 4): random looks inside the baked ranges — T_c, k_s, k_f between grid
+// points and near the ends of every range, varied emissivity and light — each
+// rendered from the package and path-traced at the same parameters. With
+// --split the error is divided by its sources:
+//   tracing       basis tracer at exactly the look's (T_c, k_s, k_f) vs reference
+//   interpolation uncompressed basis blended between grid points vs that direct trace
+//   compression   package (SVD truncation + half U) vs the uncompressed blend
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numeric>
+
+#include "bake/basis_tracer.h"
+#include "bake/bake_pipeline.h"
+#include "bake/scene_setup.h"
+#include "basis/basis_package.h"
+#include "basis/look_renderer.h"
+#include "basis/recombine.h"
+#include "cli/commands.h"
+#include "cli/interrupt.h"
+#include "cli/progress_bar.h"
+#include "render/random.h"
+#include "render/reference_tracer.h"
+
+namespace firelook::cli {
+namespace {
+
+using nlohmann::ordered_json;
+
+// A look drawn at random inside the package's ranges. A third of the looks put
+// each parameter within 5% of one end of its range; the rest draw it uniformly
+// (k_s and k_f log-uniformly), so they land between grid points.
+Look randomLook(const basis::BakeDescription& d, render::Pcg32& rng, int index) {
+    const auto draw = [&](const std::vector<double>& axis, bool logarithmic) {
+        const double lo = axis.front(), hi = axis.back();
+        double u = rng.uniform();
+        if (index % 3 == 2) u = rng.uniform() < 0.5 ? 0.05 * u : 1.0 - 0.05 * u;
+        if (logarithmic && lo > 0.0) return lo * std::pow(hi / lo, u);
+        return lo + u * (hi - lo);
+    };
+    Look look;
+    look.source_name = "bench look " + std::to_string(index);
+    look.albedo = d.albedo;
+    look.temperature_threshold = draw(d.axes.temperature_threshold, false);
+    look.smoke_extinction = draw(d.axes.smoke_extinction, true);
+    look.flame_extinction = draw(d.axes.flame_extinction, true);
+    // Emission: black up to a start temperature, then three stops of random warm colours.
+    EmissionStops stops;
+    const double t_lo = d.bins.t_lo, t_hi = d.bins.t_hi;
+    double t = t_lo + (0.3 + 0.3 * rng.uniform()) * (t_hi - t_lo);
+    stops.stops.push_back({t, Rgb(0.0f)});
+    for (int s = 0; s < 3; ++s) {
+        t += (t_hi - t) * (0.3 + 0.4 * rng.uniform());
+        const float intensity = static_cast<float>(1.0 + 12.0 * rng.uniform());
+        const Rgb hue(1.0f, static_cast<float>(0.2 + 0.7 * rng.uniform()), static_cast<float>(0.05 + 0.4 * rng.uniform()));
+        stops.stops.push_back({t, intensity * hue});
+    }
+    look.emission = stops;
+    for (size_t l = 0; l < d.light_directions.size(); ++l) {
+        const float e = static_cast<float>(0.5 + 3.0 * rng.uniform());
+        look.light_irradiance.push_back(Rgb(e, e * static_cast<float>(0.8 + 0.2 * rng.uniform()), e * 0.85f));
+    }
+    return look;
+}
+
+render::RenderImage toImage(const basis::BakeDescription& d, std::vector<float> rgba) {
+    return {d.width, d.height, std::move(rgba)};
+}
+
+// The image of a look from an uncompressed basis matrix (pixels x points*C) with
+// grid weights, alpha from the package's exact depths.
+std::vector<float> imageFromBasis(const basis::BakeDescription& d, const basis::FrameFactors& factors,
+                                  const bake::FrameBasis& b, const basis::ParameterAxes& axes, const Look& look,
+                                  const LookModel& model) {
+    const basis::GridWeights grid = basis::interpolationWeights(axes, look.extinction());
+    const int C = d.columnsPerPoint();
+    const size_t pixels = static_cast<size_t>(d.pixelCount());
+    std::vector<float> rgba(pixels * 4, 0.0f);
+    for (size_t p = 0; p < pixels; ++p) {
+        Rgb sum(0.0f);
+        for (int g = 0; g < grid.count; ++g)
+            for (int c = 0; c < C; ++c) {
+                const Rgb coef = c < d.bins.count ? model.emission.coefficients[c] : look.light_irradiance[c - d.bins.count];
+                sum += grid.weight[g] * b.matrix[p * b.columns + grid.point[g] * C + c] * coef;
+            }
+        rgba[p * 4 + 0] = std::max(sum.r, 0.0f);
+        rgba[p * 4 + 1] = std::max(sum.g, 0.0f);
+        rgba[p * 4 + 2] = std::max(sum.b, 0.0f);
+        rgba[p * 4 + 3] = basis::pixelAlpha(d, factors, static_cast<int>(p), look.extinction());
+    }
+    return rgba;
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double maxOf(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
+
+bake::TraceSettings traceSettingsOf(const ordered_json& metadata) {
+    bake::TraceSettings t;
+    const ordered_json& s = metadata.at("provenance").at("settings").at("trace");
+    t.cell_voxels = s.at("cell_voxels");
+    t.photons_primary = s.at("photons_primary");
+    t.photons_per_order = s.at("photons_per_order");
+    t.max_orders = s.at("max_orders");
+    t.order_tolerance = s.at("order_tolerance");
+    t.step_voxels = s.at("step_voxels");
+    return t;
+}
+
+}  // namespace
+
+void registerBenchCommand(CLI::App& app) {
+    struct Args {
+        std::string sequence, package, json_out;
+        std::vector<int> frames;
+        int looks = 20, spp = 1024;
+        uint64_t seed = 7;
+        bool split = false;
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* cmd = app.add_subcommand("bench", "Error of a package against the reference path tracer over random looks");
+    cmd->add_option("SEQUENCE", args->sequence, "the sequence the package was baked from")->required();
+    cmd->add_option("--package", args->package, "baked package")->required()->check(CLI::ExistingFile);
+    cmd->add_option("--frames", args->frames, "frames to test (default: first, middle and last baked frame)")
+        ->delimiter(',');
+    cmd->add_option("--looks", args->looks, "random looks per frame")->capture_default_str();
+    cmd->add_option("--spp", args->spp, "reference samples per pixel")->capture_default_str();
+    cmd->add_option("--seed", args->seed, "seed for the looks and the reference")->capture_default_str();
+    cmd->add_flag("--split", args->split, "split the error by source (re-traces each frame's basis)");
+    cmd->add_option("--json", args->json_out, "write every figure as JSON to this file");
+    cmd->callback([args] {
+        const basis::BasisPackage package = basis::BasisPackage::open(args->package);
+        const basis::BakeDescription& d = package.description();
+        const ordered_json metadata = ordered_json::parse(package.metadataJson());
+        const ordered_json& cam = metadata.at("camera");
+        render::CameraParameters camera_parameters;
+        camera_parameters.world_from_camera = cam.at("world_from_camera").get<std::array<double, 16>>();
+        camera_parameters.yfov_radians = cam.at("yfov_radians");
+        camera_parameters.width = cam.at("width");
+        camera_parameters.height = cam.at("height");
+        const render::Camera camera(camera_parameters);
+        vdb::ReadOptions read;
+        const ordered_json& prov = metadata.at("provenance");
+        read.density_grid = prov.at("density_grid");
+        read.temperature_grid = prov.at("temperature_grid");
+        read.temperature_scale = prov.at("temperature_scale");
+        read.temperature_offset = prov.at("temperature_offset");
+        const vdb::VdbSequence sequence = vdb::VdbSequence::open(args->sequence, read);
+        std::vector<int> frames = args->frames;
+        if (frames.empty()) {
+            const auto& f = d.frames;
+            frames = {f.front().frame, f[f.size() / 2].frame, f.back().frame};
+            frames.erase(std::unique(frames.begin(), frames.end()), frames.end());
+        }
+        const bake::TraceSettings trace = traceSettingsOf(metadata);
+        const uint64_t bake_seed = prov.at("settings").at("seed");
+
+        ordered_json rows = ordered_json::array();
+        std::vector<double> rmse, ref_noise, alpha_error, corrected, e_trace, e_interp, e_compress, coeff_us, image_ms;
+        render::Pcg32 rng(args->seed);
+        ProgressBar bar("bench");
+        const int total = static_cast<int>(frames.size()) * args->looks;
+        int done = 0;
+        for (int frame : frames) {
+            const render::Medium medium = bake::mediumFromFrame(sequence.load(frame));
+            const basis::FrameFactors factors = package.loadFrame(frame);
+            const std::vector<float> u = basis::decodeU(factors);
+            bake::FrameBasis full;
+            bake::TraceSettings frame_trace = trace;
+            frame_trace.seed = bake_seed * 1000003ULL + static_cast<uint64_t>(frame);  // as bakePackage seeds it
+            if (args->split) full = bake::traceFrameBasis(medium, camera, bake::basisModelOf(d), frame_trace);
+            for (int k = 0; k < args->looks; ++k) {
+                throwIfInterrupted();
+                const Look look = randomLook(d, rng, done);
+                const LookModel model = makeLookModel(look, d.bins, d.rbf_width, d.light_directions);
+
+                // Runtime cost: coefficients (median of repeats) and a full image.
+                std::vector<float> rgba(static_cast<size_t>(d.pixelCount()) * 4), z(factors.rank * 3);
+                const basis::LookWeights weights{look.extinction(), model.emission.coefficients, look.light_irradiance};
+                std::vector<double> us;
+                for (int r = 0; r < 31; ++r) {
+                    const auto t0 = std::chrono::steady_clock::now();
+                    basis::computeCoefficients(d, factors, weights, z);
+                    us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
+                }
+                coeff_us.push_back(median(us));
+                const auto t0 = std::chrono::steady_clock::now();
+                basis::renderLookImage(d, factors, u, look, rgba);
+                image_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+
+                render::ReferenceSettings rs;
+                rs.samples_per_pixel = args->spp;
+                rs.seed = args->seed * 7919 + static_cast<uint64_t>(done);
+                const render::ReferenceResult ref = render::renderReference(medium, model, camera, rs);
+                const render::RenderImage pkg = toImage(d, rgba);
+                const double e = render::relativeRmse(pkg, ref.image);
+                const double a = render::maxAlphaError(pkg, ref.image);
+                rmse.push_back(e);
+                ref_noise.push_back(ref.estimated_relative_rmse);
+                alpha_error.push_back(a);
+                // Subtract the reference's own noise (independent of the package's error) in quadrature.
+                corrected.push_back(std::sqrt(std::max(0.0, e * e - ref.estimated_relative_rmse * ref.estimated_relative_rmse)));
+                ordered_json row = {{"frame", frame},
+                                    {"look", lookToJson(look)},
+                                    {"T_c", look.temperature_threshold},
+                                    {"k_s", look.smoke_extinction},
+                                    {"k_f", look.flame_extinction},
+                                    {"relative_rmse", e},
+                                    {"reference_noise", ref.estimated_relative_rmse},
+                                    {"noise_corrected_rmse", corrected.back()},
+                                    {"max_alpha_error", a},
+                                    {"coefficients_us", coeff_us.back()},
+                                    {"image_ms", image_ms.back()}};
+                if (args->split) {
+                    basis::ParameterAxes point{{look.temperature_threshold}, {look.smoke_extinction}, {look.flame_extinction}};
+                    bake::BasisModel direct_model = bake::basisModelOf(d);
+                    direct_model.axes = point;
+                    const bake::FrameBasis direct = bake::traceFrameBasis(medium, camera, direct_model, frame_trace);
+                    const render::RenderImage direct_image = toImage(d, imageFromBasis(d, factors, direct, point, look, model));
+                    const render::RenderImage blended = toImage(d, imageFromBasis(d, factors, full, d.axes, look, model));
+                    e_trace.push_back(render::relativeRmse(direct_image, ref.image));
+                    e_interp.push_back(render::relativeRmse(blended, direct_image));
+                    e_compress.push_back(render::relativeRmse(pkg, blended));
+                    row["split"] = {{"tracing_vs_reference", e_trace.back()},
+                                    {"interpolation", e_interp.back()},
+                                    {"compression", e_compress.back()}};
+                }
+                rows.push_back(row);
+                ++done;
+                bar.update(double(done) / total, "frame " + std::to_string(frame));
+            }
+        }
+        bar.finish();
+        ordered_json summary = {{"package", args->package},
+                                {"frames", frames},
+                                {"looks", rmse.size()},
+                                {"reference_spp", args->spp},
+                                {"median_relative_rmse", median(rmse)},
+                                {"worst_relative_rmse", maxOf(rmse)},
+                                {"median_reference_noise", median(ref_noise)},
+                                {"median_noise_corrected_rmse", median(corrected)},
+                                {"worst_noise_corrected_rmse", maxOf(corrected)},
+                                {"max_alpha_error", maxOf(alpha_error)},
+                                {"median_coefficients_us", median(coeff_us)},
+                                {"median_image_ms", median(image_ms)},
+                                {"package_bytes", package.reader().fileSize()}};
+        if (args->split)
+            summary["split_median"] = {{"tracing_vs_reference", median(e_trace)},
+                                       {"interpolation", median(e_interp)},
+                                       {"compression", median(e_compress)}};
+        std::printf("%s\n", summary.dump(2).c_str());
+        if (!args->json_out.empty()) {
+            std::ofstream out(args->json_out);
+            out << ordered_json{{"summary", summary}, {"looks", rows}}.dump(2) << "\n";
+        }
+    });
+}
+
+}  // namespace firelook::cli
