@@ -71,7 +71,7 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         if (j.contains("trace")) {
             const json& t = j["trace"];
             checkKeys(t, {"cell_voxels", "photons_primary", "photons_per_order", "max_orders", "order_tolerance",
-                          "step_voxels"},
+                          "step_voxels", "footprint_samples_per_axis"},
                       "trace");
             c.trace.cell_voxels = t.value("cell_voxels", c.trace.cell_voxels);
             c.trace.photons_primary = t.value("photons_primary", c.trace.photons_primary);
@@ -79,6 +79,7 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             c.trace.max_orders = t.value("max_orders", c.trace.max_orders);
             c.trace.order_tolerance = t.value("order_tolerance", c.trace.order_tolerance);
             c.trace.step_voxels = t.value("step_voxels", c.trace.step_voxels);
+            c.trace.footprint_samples_per_axis = t.value("footprint_samples_per_axis", c.trace.footprint_samples_per_axis);
         }
         if (j.contains("compression")) {
             const json& t = j["compression"];
@@ -90,7 +91,8 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         if (c.bins < 1 || c.bins > 256) throw std::invalid_argument("bins must be 1..256");
         if (!(c.albedo >= 0.0 && c.albedo <= 1.0)) throw std::invalid_argument("albedo must be in [0, 1]");
         if (c.trace.step_voxels <= 0.0 || c.trace.cell_voxels < 1 || c.trace.photons_primary < 1 ||
-            c.trace.photons_per_order < 1)
+            c.trace.photons_per_order < 1 || c.trace.footprint_samples_per_axis < 1 ||
+            c.trace.footprint_samples_per_axis > 8)
             throw std::invalid_argument("trace settings must be positive");
     } catch (const std::exception& e) {
         throw std::runtime_error(file.string() + ": " + e.what());
@@ -119,7 +121,8 @@ std::string configToJson(const BakeConfig& c) {
     j["alpha_threshold_samples"] = c.alpha_threshold_samples;
     j["trace"] = {{"cell_voxels", c.trace.cell_voxels},         {"photons_primary", c.trace.photons_primary},
                   {"photons_per_order", c.trace.photons_per_order}, {"max_orders", c.trace.max_orders},
-                  {"order_tolerance", c.trace.order_tolerance},   {"step_voxels", c.trace.step_voxels}};
+                  {"order_tolerance", c.trace.order_tolerance},   {"step_voxels", c.trace.step_voxels},
+                  {"footprint_samples_per_axis", c.trace.footprint_samples_per_axis}};
     j["compression"] = {{"target_relative_error", c.compression.target_relative_error},
                         {"max_rank", c.compression.max_rank}};
     j["seed"] = c.seed;

@@ -16,7 +16,7 @@
 namespace firelook::bake {
 
 struct BakeConfig {
-    std::string frames;  // "A-B", empty = all
+    std::string frames;  // "A-B,C,...", empty = all
     SceneOptions scene;
     vdb::ReadOptions read;
     int bins = 16;
@@ -25,7 +25,7 @@ struct BakeConfig {
     double albedo = 0.7;
     // Sampled extinction parameters; one value collapses an axis (that parameter is fixed).
     basis::ParameterAxes axes{{1.0, 1.2, 1.4, 1.6, 1.8, 2.0}, {2.0, 4.0, 8.0, 16.0}, {0.5, 1.5, 4.0}};
-    int alpha_threshold_samples = 41;  // T_c samples of the per-pixel optical depths (exact alpha)
+    int alpha_threshold_samples = 21;  // T_c samples of the per-pixel optical depths (exact alpha)
     TraceSettings trace;
     CompressionSettings compression;
     uint64_t seed = 1;

@@ -69,6 +69,7 @@ basis::BakeDescription describeBake(const vdb::VdbSequence& sequence, const Bake
     const int n_alpha = tc.size() == 1 ? 1 : std::max(config.alpha_threshold_samples, 2);
     for (int i = 0; i < n_alpha; ++i)
         d.alpha_thresholds.push_back(n_alpha == 1 ? tc.front() : tc.front() + (tc.back() - tc.front()) * i / (n_alpha - 1));
+    d.footprint_samples = config.trace.footprint_samples_per_axis * config.trace.footprint_samples_per_axis;
     d.light_directions = scene.light_directions;
     d.width = scene.camera.width();
     d.height = scene.camera.height();

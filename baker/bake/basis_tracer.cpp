@@ -5,10 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/mat3x3.hpp>
 #include <numbers>
 #include <stdexcept>
-
-#include <glm/mat3x3.hpp>
 
 #include "render/random.h"
 
@@ -81,7 +80,8 @@ struct Tables {
     // Largest transmittance over the grid (smallest k_s and k_f, every T_c).
     float maxTransmittance(const float* d_smoke, const float* d_flame) const {
         float best = 0.0f;
-        for (int a = 0; a < n_tc; ++a) best = std::max(best, std::exp(-ks[0] * d_smoke[a] - kf[0] * d_flame[a]));
+        for (int a = 0; a < n_tc; ++a)
+            best = std::max(best, std::exp(-ks[0] * d_smoke[a] - kf[0] * d_flame[a]));
         return best;
     }
 
@@ -179,8 +179,9 @@ struct CellGrid {
             cell.y += (c >> 1) & 1;
             cell.z += (c >> 2) & 1;
             cell = glm::clamp(cell, glm::ivec3(0), count - 1);
-            const float w = static_cast<float>(((c & 1) ? f.x : 1.0 - f.x) * (((c >> 1) & 1) ? f.y : 1.0 - f.y) *
-                                               (((c >> 2) & 1) ? f.z : 1.0 - f.z));
+            const float w =
+                static_cast<float>(((c & 1) ? f.x : 1.0 - f.x) * (((c >> 1) & 1) ? f.y : 1.0 - f.y) *
+                                   (((c >> 2) & 1) ? f.z : 1.0 - f.z));
             const int s = slot[cellIndex(cell)];
             if (s < 0 || w <= 0.0f) continue;
             slots_out[n] = s;
@@ -221,7 +222,8 @@ CellGrid buildCellGrid(const render::Medium& medium, const std::vector<Voxel>& v
     for (const Voxel& v : voxels) {
         // A voxel influences index points within one voxel of it; mark those cells.
         for (int c = 0; c < 8; ++c) {
-            const glm::dvec3 p = glm::dvec3(v.index) + glm::dvec3(c & 1 ? 1 : -1, (c >> 1) & 1 ? 1 : -1, (c >> 2) & 1 ? 1 : -1);
+            const glm::dvec3 p = glm::dvec3(v.index) +
+                                 glm::dvec3(c & 1 ? 1 : -1, (c >> 1) & 1 ? 1 : -1, (c >> 2) & 1 ? 1 : -1);
             const glm::ivec3 cell = glm::clamp(glm::ivec3(glm::floor((p - grid.origin) / double(grid.edge))),
                                                glm::ivec3(0), grid.count - 1);
             occupied[grid.cellIndex(cell)] = 1;
@@ -237,7 +239,8 @@ CellGrid buildCellGrid(const render::Medium& medium, const std::vector<Voxel>& v
                     for (int dy = -1; dy <= 1 && !near; ++dy)
                         for (int dx = -1; dx <= 1 && !near; ++dx) {
                             const glm::ivec3 c(x + dx, y + dy, z + dz);
-                            if (glm::any(glm::lessThan(c, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(c, grid.count)))
+                            if (glm::any(glm::lessThan(c, glm::ivec3(0))) ||
+                                glm::any(glm::greaterThanEqual(c, grid.count)))
                                 continue;
                             near = occupied[grid.cellIndex(c)] != 0;
                         }
@@ -290,12 +293,14 @@ struct LightDepthField {
         for (int c = 0; c < 8; ++c) {
             glm::ivec3 p = base + glm::ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1);
             p = glm::min(p, count - 1);
-            const float w = static_cast<float>(((c & 1) ? f.x : 1.0 - f.x) * (((c >> 1) & 1) ? f.y : 1.0 - f.y) *
-                                               (((c >> 2) & 1) ? f.z : 1.0 - f.z));
+            const float w =
+                static_cast<float>(((c & 1) ? f.x : 1.0 - f.x) * (((c >> 1) & 1) ? f.y : 1.0 - f.y) *
+                                   (((c >> 2) & 1) ? f.z : 1.0 - f.z));
             if (w <= 0.0f) continue;
-            const float* d = depths.data() + (static_cast<size_t>(light) * count.x * count.y * count.z +
-                                              p.x + static_cast<size_t>(count.x) * (p.y + static_cast<size_t>(count.y) * p.z)) *
-                                                 2 * n_tc;
+            const float* d =
+                depths.data() + (static_cast<size_t>(light) * count.x * count.y * count.z + p.x +
+                                 static_cast<size_t>(count.x) * (p.y + static_cast<size_t>(count.y) * p.z)) *
+                                    2 * n_tc;
             for (int a = 0; a < n_tc; ++a) {
                 smoke[a] += w * d[a];
                 flame[a] += w * d[n_tc + a];
@@ -307,8 +312,8 @@ struct LightDepthField {
 // Marches the medium from an index-space point along a world direction to the box exit,
 // calling visit(index_point_mid, step_length, rho, t) at each step's midpoint.
 template <typename Visit>
-void march(const render::Medium& medium, const IndexBox& box, const IndexRay& ray, double t_start, double t_end,
-           double step, Visit&& visit) {
+void march(const render::Medium& medium, const IndexBox& box, const IndexRay& ray, double t_start,
+           double t_end, double step, Visit&& visit) {
     for (double t = t_start; t < t_end; t += step) {
         const double dt = std::min(step, t_end - t);
         const glm::dvec3 p = ray.origin + (t + 0.5 * dt) * ray.direction;
@@ -335,24 +340,27 @@ LightDepthField buildLightDepths(const render::Medium& medium, const BasisModel&
                 for (int x = 0; x < field.count.x; ++x) {
                     const glm::dvec3 p = field.origin + glm::dvec3(x, y, z);
                     if (cells.slotAt(p) < 0) continue;  // no density nearby: never sampled
-                    const IndexRay ray = toIndexSpace(medium, glm::dvec3(medium.indexToWorld() * glm::dvec4(p, 1.0)), toward_light);
+                    const IndexRay ray = toIndexSpace(
+                        medium, glm::dvec3(medium.indexToWorld() * glm::dvec4(p, 1.0)), toward_light);
                     double t0, t1;
-                    float* out = field.depths.data() +
-                                 (l * points + x + static_cast<size_t>(field.count.x) * (y + static_cast<size_t>(field.count.y) * z)) *
-                                     2 * tables.n_tc;
+                    float* out = field.depths.data() + (l * points + x +
+                                                        static_cast<size_t>(field.count.x) *
+                                                            (y + static_cast<size_t>(field.count.y) * z)) *
+                                                           2 * tables.n_tc;
                     if (!clipToBox(ray, box, t0, t1)) continue;
                     std::fill(smoke.begin(), smoke.end(), 0.0f);
                     std::fill(flame.begin(), flame.end(), 0.0f);
-                    march(medium, box, ray, 0.0, t1, step, [&](const glm::dvec3&, float dt, float rho, float t) {
-                        if (rho <= 0.0f) return true;
-                        float s[64], f[64];
-                        tables.split(rho, t, s, f);
-                        for (int a = 0; a < tables.n_tc; ++a) {
-                            smoke[a] += s[a] * dt;
-                            flame[a] += f[a] * dt;
-                        }
-                        return true;
-                    });
+                    march(medium, box, ray, 0.0, t1, step,
+                          [&](const glm::dvec3&, float dt, float rho, float t) {
+                              if (rho <= 0.0f) return true;
+                              float s[64], f[64];
+                              tables.split(rho, t, s, f);
+                              for (int a = 0; a < tables.n_tc; ++a) {
+                                  smoke[a] += s[a] * dt;
+                                  flame[a] += f[a] * dt;
+                              }
+                              return true;
+                          });
                     std::copy(smoke.begin(), smoke.end(), out);
                     std::copy(flame.begin(), flame.end(), out + tables.n_tc);
                 }
@@ -385,8 +393,8 @@ enum class SourceKind { Emission, LightScatter, Scattered };
 // One pass of photons from one kind of source, returning the Lbar it produces.
 // `previous` (for Scattered) is the Lbar of the previous order.
 std::vector<float> photonPass(const TransportContext& ctx, SourceKind kind, const VoxelSampler& sampler,
-                              const std::vector<Voxel>& voxels, const std::vector<float>* previous, int photons,
-                              uint64_t seed) {
+                              const std::vector<Voxel>& voxels, const std::vector<float>* previous,
+                              int photons, uint64_t seed) {
     const Tables& tb = ctx.tables;
     const int G = tb.points, C = tb.columns;
     std::vector<std::vector<float>> chunk_fields(kPhotonChunks);
@@ -403,10 +411,12 @@ std::vector<float> photonPass(const TransportContext& ctx, SourceKind kind, cons
         const int first = static_cast<int>(static_cast<int64_t>(photons) * chunk / kPhotonChunks);
         const int last = static_cast<int>(static_cast<int64_t>(photons) * (chunk + 1) / kPhotonChunks);
         for (int n = first; n < last; ++n) {
-            render::Pcg32 rng = render::Pcg32::forSample(seed, static_cast<uint64_t>(kind), static_cast<uint64_t>(n));
+            render::Pcg32 rng =
+                render::Pcg32::forSample(seed, static_cast<uint64_t>(kind), static_cast<uint64_t>(n));
             const size_t v = sampler.sample(rng.uniform());
-            const glm::dvec3 start = glm::dvec3(voxels[v].index) +
-                                     glm::dvec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
+            const glm::dvec3 start =
+                glm::dvec3(voxels[v].index) +
+                glm::dvec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
             const render::MediumSample at = ctx.medium.sampleIndex(start);
             // Track-length estimator of the cell-averaged Lbar: (Q/p) * tau * length / (N * V_cell).
             const double pdf = sampler.probability[v] / voxel_volume;
@@ -481,30 +491,32 @@ std::vector<float> photonPass(const TransportContext& ctx, SourceKind kind, cons
                     cell_length[g] = 0.0f;
                 }
             };
-            march(ctx.medium, ctx.box, ray, 0.0, t1, ctx.step, [&](const glm::dvec3& p, float dt, float rho, float t) {
-                if (rho > 0.0f) {
-                    tb.split(rho, t, smoke, flame);
-                    for (int a = 0; a < tb.n_tc; ++a) {
-                        half_s[a] = d_smoke[a] + 0.5f * smoke[a] * dt;
-                        half_f[a] = d_flame[a] + 0.5f * flame[a] * dt;
-                        d_smoke[a] += smoke[a] * dt;
-                        d_flame[a] += flame[a] * dt;
-                    }
-                    tb.transmittance(half_s, half_f, tau.data());
-                    depth_changed = true;
-                } else if (depth_changed) {  // empty space: tau stays what it was at the last density
-                    tb.transmittance(d_smoke, d_flame, tau.data());
-                    depth_changed = false;
-                }
-                const int slot = ctx.cells.slotAt(p);
-                if (slot != current_slot) {
-                    deposit();
-                    current_slot = slot;
-                }
-                if (slot >= 0)
-                    for (int g = 0; g < G; ++g) cell_length[g] += tau[g] * dt;
-                return !depth_changed || tb.maxTransmittance(d_smoke, d_flame) > kNegligibleTransmittance;
-            });
+            march(ctx.medium, ctx.box, ray, 0.0, t1, ctx.step,
+                  [&](const glm::dvec3& p, float dt, float rho, float t) {
+                      if (rho > 0.0f) {
+                          tb.split(rho, t, smoke, flame);
+                          for (int a = 0; a < tb.n_tc; ++a) {
+                              half_s[a] = d_smoke[a] + 0.5f * smoke[a] * dt;
+                              half_f[a] = d_flame[a] + 0.5f * flame[a] * dt;
+                              d_smoke[a] += smoke[a] * dt;
+                              d_flame[a] += flame[a] * dt;
+                          }
+                          tb.transmittance(half_s, half_f, tau.data());
+                          depth_changed = true;
+                      } else if (depth_changed) {  // empty space: tau stays what it was at the last density
+                          tb.transmittance(d_smoke, d_flame, tau.data());
+                          depth_changed = false;
+                      }
+                      const int slot = ctx.cells.slotAt(p);
+                      if (slot != current_slot) {
+                          deposit();
+                          current_slot = slot;
+                      }
+                      if (slot >= 0)
+                          for (int g = 0; g < G; ++g) cell_length[g] += tau[g] * dt;
+                      return !depth_changed ||
+                             tb.maxTransmittance(d_smoke, d_flame) > kNegligibleTransmittance;
+                  });
             deposit();
         }
     });
@@ -522,11 +534,13 @@ double fieldEnergy(const std::vector<float>& field) {
 
 }  // namespace
 
-FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& camera, const BasisModel& model,
-                           const TraceSettings& settings, const std::function<bool(double)>& progress) {
+FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& camera,
+                           const BasisModel& model, const TraceSettings& settings,
+                           const std::function<bool(double)>& progress) {
     basis::validateAxes(model.axes);
     if (model.axes.temperature_threshold.size() > 64 || model.axes.smoke_extinction.size() > 64 ||
-        model.axes.flame_extinction.size() > 64 || model.alpha_thresholds.size() > 64 || model.alpha_thresholds.empty())
+        model.axes.flame_extinction.size() > 64 || model.alpha_thresholds.size() > 64 ||
+        model.alpha_thresholds.empty())
         throw std::invalid_argument("at most 64 samples per parameter axis and 1..64 alpha thresholds");
     const auto report = [&](double f) {
         if (progress && !progress(f)) throw std::runtime_error("cancelled");
@@ -539,8 +553,10 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     out.columns = G * C;
     const size_t pixels = static_cast<size_t>(out.width) * out.height;
     out.matrix.assign(pixels * out.columns, 0.0f);
-    out.depth_density.assign(pixels, 0.0f);
-    out.depth_sigmoid.assign(pixels * tb.n_alpha, 0.0f);
+    const int per_axis = std::max(settings.footprint_samples_per_axis, 1);
+    out.footprint_samples = per_axis * per_axis;
+    out.depth_density.assign(pixels * out.footprint_samples, 0.0f);
+    out.depth_sigmoid.assign(pixels * out.footprint_samples * tb.n_alpha, 0.0f);
     if (medium.empty()) return out;
 
     const double step = settings.step_voxels * medium.minVoxelEdge();
@@ -553,8 +569,10 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     // Scattering orders: Lbar_sum = sum over orders of the mean radiance each produces.
     // Tracks only feed cell averages over cell_voxels^3 voxels: a one-voxel step is accurate enough.
     const double track_step = std::max(settings.step_voxels, 1.0) * medium.minVoxelEdge();
-    const TransportContext ctx{medium, model, tb, cells, light_depths, influenceBox(medium), track_step,
-                               static_cast<size_t>(cells.slots) * G * C};
+    const TransportContext ctx{medium,       model,
+                               tb,           cells,
+                               light_depths, influenceBox(medium),
+                               track_step,   static_cast<size_t>(cells.slots) * G * C};
     std::vector<float> lbar_sum(ctx.field_size, 0.0f);
     if (model.albedo > 0.0) {
         // Emission photons are drawn half by density and half equally per bin, so
@@ -572,7 +590,8 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
             double per_bin = 0.0;
             for (int i = 0; i < tb.bins; ++i)
                 if (bin_mass[i] > 0.0) per_bin += tb.rbf(i, voxels[n].temperature) / bin_mass[i];
-            emission_weight[n] = voxels[n].density * (0.5 / density_mass + 0.5 * per_bin / std::max(active_bins, 1));
+            emission_weight[n] =
+                voxels[n].density * (0.5 / density_mass + 0.5 * per_bin / std::max(active_bins, 1));
             density_weight[n] = voxels[n].density;
         }
         const VoxelSampler emission_sampler(emission_weight), density_sampler(density_weight);
@@ -580,8 +599,9 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
         std::vector<float> order = photonPass(ctx, SourceKind::Emission, emission_sampler, voxels, nullptr,
                                               settings.photons_primary, settings.seed);
         if (tb.lights > 0) {
-            const std::vector<float> light = photonPass(ctx, SourceKind::LightScatter, density_sampler, voxels,
-                                                        nullptr, settings.photons_primary, settings.seed + 1);
+            const std::vector<float> light =
+                photonPass(ctx, SourceKind::LightScatter, density_sampler, voxels, nullptr,
+                           settings.photons_primary, settings.seed + 1);
             for (size_t i = 0; i < order.size(); ++i) order[i] += light[i];
         }
         for (size_t i = 0; i < order.size(); ++i) lbar_sum[i] += order[i];
@@ -621,63 +641,84 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                 for (int px = 0; px < out.width; ++px) {
                     const size_t pixel = static_cast<size_t>(py) * out.width + px;
                     float* row = out.matrix.data() + pixel * out.columns;
-                    const render::Ray world_ray = camera.generateRay(px, py, 0.5, 0.5);
-                    const IndexRay ray = toIndexSpace(medium, world_ray.origin, world_ray.direction);
-                    double t0, t1;
-                    if (!clipToBox(ray, box, t0, t1)) continue;
-                    std::fill(d_smoke, d_smoke + tb.n_tc, 0.0f);
-                    std::fill(d_flame, d_flame + tb.n_tc, 0.0f);
-                    double depth_density = 0.0;
-                    float* depth_sigmoid_out = out.depth_sigmoid.data() + pixel;
-                    std::fill(depth_sigmoid.begin(), depth_sigmoid.end(), 0.0);
                     touched.clear();
                     kernel.clear();
-                    march(medium, box, ray, t0, t1, step, [&](const glm::dvec3& p, float dt, float rho, float t) {
-                        if (rho <= 0.0f) return true;
-                        depth_density += double(rho) * dt;
-                        const float tcl = tb.clampT(t);
+                    const float sample_weight = 1.0f / static_cast<float>(out.footprint_samples);
+                    for (int sample = 0; sample < out.footprint_samples; ++sample) {
+                        const render::Ray world_ray =
+                            camera.generateRay(px, py, (sample % per_axis + 0.5) / per_axis,
+                                               (sample / per_axis + 0.5) / per_axis);
+                        const IndexRay ray = toIndexSpace(medium, world_ray.origin, world_ray.direction);
+                        double t0, t1;
+                        if (!clipToBox(ray, box, t0, t1)) continue;
+                        std::fill(d_smoke, d_smoke + tb.n_tc, 0.0f);
+                        std::fill(d_flame, d_flame + tb.n_tc, 0.0f);
+                        double depth_density = 0.0;
+                        std::fill(depth_sigmoid.begin(), depth_sigmoid.end(), 0.0);
+                        march(medium, box, ray, t0, t1, step,
+                              [&](const glm::dvec3& p, float step_length, float rho, float t) {
+                                  if (rho <= 0.0f) return true;
+                                  depth_density += double(rho) * step_length;
+                                  const float tcl = tb.clampT(t);
+                                  for (int a = 0; a < tb.n_alpha; ++a)
+                                      depth_sigmoid[a] += double(rho) *
+                                                          std::tanh((tcl - tb.alpha_tc[a]) * tb.inv_2dt) *
+                                                          step_length;
+                                  tb.split(rho, t, smoke, flame);
+                                  for (int a = 0; a < tb.n_tc; ++a) {
+                                      half_s[a] = d_smoke[a] + 0.5f * smoke[a] * step_length;
+                                      half_f[a] = d_flame[a] + 0.5f * flame[a] * step_length;
+                                      d_smoke[a] += smoke[a] * step_length;
+                                      d_flame[a] += flame[a] * step_length;
+                                  }
+                                  if (tb.maxTransmittance(half_s, half_f) <= kNegligibleTransmittance)
+                                      return true;
+                                  tb.transmittance(half_s, half_f, tau.data());
+                                  tb.scattering(smoke, flame, sigma_s.data());
+                                  // The pixel is the mean of its footprint rays: each adds 1/samples of its
+                                  // integral.
+                                  const float dt = step_length * sample_weight;
+                                  // Direct emission.
+                                  int bin_first, bin_last;
+                                  tb.binWindow(t, bin_first, bin_last);
+                                  for (int i = bin_first; i < bin_last; ++i) {
+                                      const float j = rho * tb.rbf(i, t) * dt;
+                                      for (int g = 0; g < G; ++g) row[g * C + i] += tau[g] * j;
+                                  }
+                                  // Single scattering of each directional light.
+                                  for (int l = 0; l < tb.lights; ++l) {
+                                      light_depths.sample(l, p, lsm, lfl);
+                                      tb.transmittance(lsm, lfl, ltau.data());
+                                      for (int g = 0; g < G; ++g)
+                                          row[g * C + tb.bins + l] +=
+                                              tau[g] * sigma_s[g] * ltau[g] * kInv4Pi * dt;
+                                  }
+                                  // Scattered light: gather the weights of Lbar's cells, contract once per
+                                  // pixel.
+                                  if (model.albedo > 0.0) {
+                                      const int n = cells.corners(p, corner_slots, corner_w);
+                                      for (int c = 0; c < n; ++c) {
+                                          int& entry = entry_of_slot[corner_slots[c]];
+                                          if (entry < 0) {
+                                              entry = static_cast<int>(touched.size());
+                                              touched.push_back(corner_slots[c]);
+                                              kernel.resize(kernel.size() + G, 0.0f);
+                                          }
+                                          float* k = kernel.data() + static_cast<size_t>(entry) * G;
+                                          for (int g = 0; g < G; ++g)
+                                              k[g] += corner_w[c] * tau[g] * sigma_s[g] * dt;
+                                      }
+                                  }
+                                  return true;
+                              });
+                        float* density_out =
+                            out.depth_density.data() + static_cast<size_t>(sample) * pixels + pixel;
+                        float* sigmoid_out = out.depth_sigmoid.data() +
+                                             static_cast<size_t>(sample) * tb.n_alpha * pixels + pixel;
+                        *density_out = static_cast<float>(depth_density);
                         for (int a = 0; a < tb.n_alpha; ++a)
-                            depth_sigmoid[a] += double(rho) * std::tanh((tcl - tb.alpha_tc[a]) * tb.inv_2dt) * dt;
-                        tb.split(rho, t, smoke, flame);
-                        for (int a = 0; a < tb.n_tc; ++a) {
-                            half_s[a] = d_smoke[a] + 0.5f * smoke[a] * dt;
-                            half_f[a] = d_flame[a] + 0.5f * flame[a] * dt;
-                            d_smoke[a] += smoke[a] * dt;
-                            d_flame[a] += flame[a] * dt;
-                        }
-                        if (tb.maxTransmittance(half_s, half_f) <= kNegligibleTransmittance) return true;
-                        tb.transmittance(half_s, half_f, tau.data());
-                        tb.scattering(smoke, flame, sigma_s.data());
-                        // Direct emission.
-                        int bin_first, bin_last;
-                        tb.binWindow(t, bin_first, bin_last);
-                        for (int i = bin_first; i < bin_last; ++i) {
-                            const float j = rho * tb.rbf(i, t) * dt;
-                            for (int g = 0; g < G; ++g) row[g * C + i] += tau[g] * j;
-                        }
-                        // Single scattering of each directional light.
-                        for (int l = 0; l < tb.lights; ++l) {
-                            light_depths.sample(l, p, lsm, lfl);
-                            tb.transmittance(lsm, lfl, ltau.data());
-                            for (int g = 0; g < G; ++g)
-                                row[g * C + tb.bins + l] += tau[g] * sigma_s[g] * ltau[g] * kInv4Pi * dt;
-                        }
-                        // Scattered light: gather the weights of Lbar's cells, contract once per pixel.
-                        if (model.albedo > 0.0) {
-                            const int n = cells.corners(p, corner_slots, corner_w);
-                            for (int c = 0; c < n; ++c) {
-                                int& entry = entry_of_slot[corner_slots[c]];
-                                if (entry < 0) {
-                                    entry = static_cast<int>(touched.size());
-                                    touched.push_back(corner_slots[c]);
-                                    kernel.resize(kernel.size() + G, 0.0f);
-                                }
-                                float* k = kernel.data() + static_cast<size_t>(entry) * G;
-                                for (int g = 0; g < G; ++g) k[g] += corner_w[c] * tau[g] * sigma_s[g] * dt;
-                            }
-                        }
-                        return true;
-                    });
+                            sigmoid_out[a * pixels] = static_cast<float>(depth_sigmoid[a]);
+                    }
                     for (size_t e = 0; e < touched.size(); ++e) {
                         const float* k = kernel.data() + e * G;
                         const float* lbar = lbar_sum.data() + static_cast<size_t>(touched[e]) * G * C;
@@ -687,8 +728,6 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                         }
                         entry_of_slot[touched[e]] = -1;
                     }
-                    out.depth_density[pixel] = static_cast<float>(depth_density);
-                    for (int a = 0; a < tb.n_alpha; ++a) depth_sigmoid_out[a * pixels] = static_cast<float>(depth_sigmoid[a]);
                 }
             }
         });

@@ -53,6 +53,10 @@ struct TraceSettings {
     int max_orders = 12;              // scattering orders at most
     double order_tolerance = 0.002;   // stop when an order adds less than this fraction
     double step_voxels = 0.5;         // march step in voxels
+    // Camera rays per pixel along each axis of its footprint (n x n, cell-centred): a
+    // pixel is the mean over its footprint, and alpha = mean(1 - exp(-tau)) needs the
+    // optical depths of each ray, which are all stored.
+    int footprint_samples_per_axis = 2;
     uint64_t seed = 1;
 };
 
@@ -61,8 +65,9 @@ struct FrameBasis {
     int height = 0;
     int columns = 0;
     std::vector<float> matrix;          // pixels x columns, pixel-major; column = point * C + c
-    std::vector<float> depth_density;   // O_b per pixel
-    std::vector<float> depth_sigmoid;   // O_a per alpha threshold x pixel
+    int footprint_samples = 1;          // rays per pixel
+    std::vector<float> depth_density;   // O_b: footprint sample x pixel
+    std::vector<float> depth_sigmoid;   // O_a: footprint sample x alpha threshold x pixel
     int scattering_orders = 0;          // orders traced
     double last_order_fraction = 0.0;   // share of the total the last order added
 };

@@ -1,5 +1,6 @@
 #include "bake/scene_setup.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -64,22 +65,30 @@ std::pair<double, double> sequenceTemperatureRange(const vdb::VdbSequence& seque
     return {lo, hi};
 }
 
-std::vector<int> selectFrames(const vdb::VdbSequence& sequence, const std::string& range) {
-    int first = std::numeric_limits<int>::min(), last = std::numeric_limits<int>::max();
-    if (!range.empty()) {
-        const size_t dash = range.find('-', 1);
+std::vector<int> selectFrames(const vdb::VdbSequence& sequence, const std::string& selection) {
+    // A comma-separated list of "A-B" ranges and single frames; empty selects all.
+    std::vector<std::pair<int, int>> ranges;
+    size_t start = 0;
+    while (start <= selection.size() && !selection.empty()) {
+        const size_t comma = std::min(selection.find(',', start), selection.size());
+        const std::string part = selection.substr(start, comma - start);
+        const size_t dash = part.find('-', 1);
         try {
-            first = std::stoi(range.substr(0, dash));
-            last = dash == std::string::npos ? first : std::stoi(range.substr(dash + 1));
+            const int first = std::stoi(part.substr(0, dash));
+            ranges.emplace_back(first, dash == std::string::npos ? first : std::stoi(part.substr(dash + 1)));
         } catch (const std::exception&) {
-            throw std::invalid_argument("--frames '" + range + "' is not A-B or A");
+            throw std::invalid_argument("--frames '" + selection + "' is not a list of A-B ranges or frames");
         }
+        start = comma + 1;
     }
     std::vector<int> frames;
-    for (const vdb::FrameFile& f : sequence.frames())
-        if (f.number >= first && f.number <= last) frames.push_back(f.number);
-    if (frames.empty())
-        throw std::invalid_argument(sequence.source() + ": no frame in range '" + range + "'");
+    for (const vdb::FrameFile& f : sequence.frames()) {
+        const bool wanted = ranges.empty() || std::any_of(ranges.begin(), ranges.end(), [&](const auto& r) {
+                                return f.number >= r.first && f.number <= r.second;
+                            });
+        if (wanted) frames.push_back(f.number);
+    }
+    if (frames.empty()) throw std::invalid_argument(sequence.source() + ": no frame in '" + selection + "'");
     return frames;
 }
 

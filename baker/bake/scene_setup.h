@@ -42,7 +42,7 @@ render::Medium mediumFromFrame(const vdb::VolumeFrame& frame);
 // The range includes 0 when the grids' background is 0, so ambient air sits in bin 0.
 std::pair<double, double> sequenceTemperatureRange(const vdb::VdbSequence& sequence);
 
-// Parses "A-B" or "A" into the frames of the sequence inside it (all when empty).
+// Parses "A-B,C,..." into the frames of the sequence it selects (all when empty).
 std::vector<int> selectFrames(const vdb::VdbSequence& sequence, const std::string& range);
 
 // Parses "WxH".

@@ -21,7 +21,7 @@ void registerBakeCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("bake", "Bake a VDB sequence into a .firelook package of compressed basis images");
     cmd->add_option("SEQUENCE", args->sequence, "folder of .vdb files or a pattern such as fire_####.vdb")->required();
     cmd->add_option("-o,--output", args->output, "output package (.firelook)")->required();
-    cmd->add_option("--frames", args->frames, "frame range A-B (numbers from the file names)");
+    cmd->add_option("--frames", args->frames, "frames: A-B ranges and single frames, comma-separated (numbers from the file names)");
     cmd->add_option("--seed", args->seed, "random seed: the same seed gives the same bytes")->capture_default_str();
     addSceneFlags(*cmd, args->scene);
     cmd->callback([cmd, args] {
@@ -32,10 +32,10 @@ void registerBakeCommand(CLI::App& app) {
         const bake::BakeReport report = bake::bakePackage(
             args->sequence, args->output, config, kToolVersion, [&](double fraction, const std::string& detail) {
                 bar.update(fraction, detail);
-                return !interruptRequested();
+                throwIfInterrupted();  // unwinds through the writer, which deletes its temporary file
+                return true;
             });
         bar.finish(std::to_string(report.frames.size()) + " frames");
-        throwIfInterrupted();
         std::printf("wrote %s: %zu frames, %.1f MB (%.2f%% of the %.1f MB of float basis images)\n",
                     args->output.c_str(), report.frames.size(), report.package_bytes / 1e6,
                     100.0 * report.package_bytes / std::max<double>(1.0, report.uncompressed_basis_bytes),

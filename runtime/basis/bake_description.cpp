@@ -28,6 +28,7 @@ std::string bakeDescriptionToJson(const BakeDescription& d) {
           {"smoke_extinction", d.axes.smoke_extinction},
           {"flame_extinction", d.axes.flame_extinction}}},
         {"alpha_thresholds", d.alpha_thresholds},
+        {"footprint_samples", d.footprint_samples},
         {"light_directions", lights},
         {"width", d.width},
         {"height", d.height},
@@ -52,6 +53,7 @@ BakeDescription parseBakeDescription(const std::string& json_text, const std::st
         d.axes.smoke_extinction = axes.at("smoke_extinction").get<std::vector<double>>();
         d.axes.flame_extinction = axes.at("flame_extinction").get<std::vector<double>>();
         d.alpha_thresholds = j.at("alpha_thresholds").get<std::vector<double>>();
+        d.footprint_samples = j.value("footprint_samples", 1);
         for (const json& l : j.at("light_directions"))
             d.light_directions.emplace_back(l.at(0).get<double>(), l.at(1).get<double>(), l.at(2).get<double>());
         d.width = j.at("width").get<int>();
@@ -63,6 +65,7 @@ BakeDescription parseBakeDescription(const std::string& json_text, const std::st
         if (d.bins.count < 1 || !(d.bins.t_hi > d.bins.t_lo)) throw std::invalid_argument("invalid temperature bins");
         if (d.width < 1 || d.height < 1) throw std::invalid_argument("invalid image size");
         if (d.alpha_thresholds.empty()) throw std::invalid_argument("no alpha thresholds");
+        if (d.footprint_samples < 1 || d.footprint_samples > 64) throw std::invalid_argument("footprint_samples must be 1..64");
         return d;
     } catch (const std::exception& e) {
         throw std::runtime_error(source + ": invalid bake description: " + e.what());

@@ -24,6 +24,9 @@ struct BakeDescription {
     double albedo = 0.8;             // fixed at bake time
     ParameterAxes axes;              // sampled extinction parameters
     std::vector<double> alpha_thresholds;  // T_c samples of the per-pixel optical depth maps
+    // Optical depths are stored for this many rays per pixel (a square grid over
+    // its footprint) so alpha = mean of 1 - exp(-tau) is exact for any (k_s, k_f).
+    int footprint_samples = 1;
     std::vector<glm::dvec3> light_directions;  // direction each light travels, world space
     int width = 0;
     int height = 0;

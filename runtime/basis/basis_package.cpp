@@ -83,9 +83,11 @@ FrameFactors BasisPackage::loadFrame(int frame) const {
     f.u_half = readArray<uint16_t>(reader_, kSectionU, frame, pixels * f.rank);
     f.svt = readArray<float>(reader_, kSectionSVt, frame, static_cast<size_t>(f.columns) * f.rank);
     std::vector<float> depths =
-        readArray<float>(reader_, kSectionDepths, frame, pixels * (1 + description_.alpha_thresholds.size()));
-    f.depth_density.assign(depths.begin(), depths.begin() + pixels);
-    f.depth_sigmoid.assign(depths.begin() + pixels, depths.end());
+        readArray<float>(reader_, kSectionDepths, frame,
+                         pixels * description_.footprint_samples * (1 + description_.alpha_thresholds.size()));
+    const size_t density_count = pixels * description_.footprint_samples;
+    f.depth_density.assign(depths.begin(), depths.begin() + density_count);
+    f.depth_sigmoid.assign(depths.begin() + density_count, depths.end());
     return f;
 }
 

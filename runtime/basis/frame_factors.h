@@ -18,9 +18,9 @@ struct FrameFactors {
     std::vector<uint16_t> u_half;
     // S V^T, column-major: the rank coefficients of basis column j are contiguous.
     std::vector<float> svt;
-    // O_b(p) = integral of rho along the pixel's ray.
+    // O_b(s, p) = integral of rho along ray s of pixel p: one image per footprint sample s.
     std::vector<float> depth_density;
-    // O_a(p, T_c) = integral of rho f(T - T_c), one image per alpha threshold sample.
+    // O_a(s, T_c, p) = integral of rho f(T - T_c): per footprint sample, one image per alpha threshold.
     std::vector<float> depth_sigmoid;
 };
 
