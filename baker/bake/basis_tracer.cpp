@@ -77,6 +77,18 @@ struct Tables {
         }
     }
 
+    // One midpoint step of the smoke/flame depths: `half` gets the depths at the step's
+    // midpoint (where the step's sample is weighted), `depth` the depths at its end.
+    void advanceDepths(const float* smoke, const float* flame, float dt, float* depth_smoke, float* depth_flame,
+                       float* half_smoke, float* half_flame) const {
+        for (int a = 0; a < n_tc; ++a) {
+            half_smoke[a] = depth_smoke[a] + 0.5f * smoke[a] * dt;
+            half_flame[a] = depth_flame[a] + 0.5f * flame[a] * dt;
+            depth_smoke[a] += smoke[a] * dt;
+            depth_flame[a] += flame[a] * dt;
+        }
+    }
+
     // Largest transmittance over the grid (smallest k_s and k_f, every T_c).
     float maxTransmittance(const float* d_smoke, const float* d_flame) const {
         float best = 0.0f;
@@ -133,20 +145,7 @@ IndexBox influenceBox(const render::Medium& medium) {
 }
 
 bool clipToBox(const IndexRay& ray, const IndexBox& box, double& t0, double& t1) {
-    t0 = 0.0;
-    t1 = std::numeric_limits<double>::infinity();
-    for (int a = 0; a < 3; ++a) {
-        if (ray.direction[a] == 0.0) {
-            if (ray.origin[a] < box.lo[a] || ray.origin[a] > box.hi[a]) return false;
-            continue;
-        }
-        double ta = (box.lo[a] - ray.origin[a]) / ray.direction[a];
-        double tb = (box.hi[a] - ray.origin[a]) / ray.direction[a];
-        if (ta > tb) std::swap(ta, tb);
-        t0 = std::max(t0, ta);
-        t1 = std::min(t1, tb);
-    }
-    return t1 > t0;
+    return render::intersectBox(ray.origin, ray.direction, box.lo, box.hi, t0, t1);
 }
 
 // Coarse cells over the influence box holding Lbar for every grid point and column.
@@ -495,12 +494,7 @@ std::vector<float> photonPass(const TransportContext& ctx, SourceKind kind, cons
                   [&](const glm::dvec3& p, float dt, float rho, float t) {
                       if (rho > 0.0f) {
                           tb.split(rho, t, smoke, flame);
-                          for (int a = 0; a < tb.n_tc; ++a) {
-                              half_s[a] = d_smoke[a] + 0.5f * smoke[a] * dt;
-                              half_f[a] = d_flame[a] + 0.5f * flame[a] * dt;
-                              d_smoke[a] += smoke[a] * dt;
-                              d_flame[a] += flame[a] * dt;
-                          }
+                          tb.advanceDepths(smoke, flame, dt, d_smoke, d_flame, half_s, half_f);
                           tb.transmittance(half_s, half_f, tau.data());
                           depth_changed = true;
                       } else if (depth_changed) {  // empty space: tau stays what it was at the last density
@@ -665,12 +659,7 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                                                           std::tanh((tcl - tb.alpha_tc[a]) * tb.inv_2dt) *
                                                           step_length;
                                   tb.split(rho, t, smoke, flame);
-                                  for (int a = 0; a < tb.n_tc; ++a) {
-                                      half_s[a] = d_smoke[a] + 0.5f * smoke[a] * step_length;
-                                      half_f[a] = d_flame[a] + 0.5f * flame[a] * step_length;
-                                      d_smoke[a] += smoke[a] * step_length;
-                                      d_flame[a] += flame[a] * step_length;
-                                  }
+                                  tb.advanceDepths(smoke, flame, step_length, d_smoke, d_flame, half_s, half_f);
                                   if (tb.maxTransmittance(half_s, half_f) <= kNegligibleTransmittance)
                                       return true;
                                   tb.transmittance(half_s, half_f, tau.data());

@@ -114,18 +114,8 @@ std::vector<float> exactFootprintAlpha(const render::Medium& medium, const LookM
             for (int s = 0; s < kPerAxis * kPerAxis; ++s) {
                 const render::Ray ray =
                     camera.generateRay(px, py, (s % kPerAxis + 0.5) / kPerAxis, (s / kPerAxis + 0.5) / kPerAxis);
-                double t0 = 0.0, t1 = std::numeric_limits<double>::infinity();
-                for (int a = 0; a < 3; ++a) {
-                    if (ray.direction[a] == 0.0) {
-                        if (ray.origin[a] < box.min[a] || ray.origin[a] > box.max[a]) t1 = -1.0;
-                        continue;
-                    }
-                    double ta = (box.min[a] - ray.origin[a]) / ray.direction[a];
-                    double tb = (box.max[a] - ray.origin[a]) / ray.direction[a];
-                    if (ta > tb) std::swap(ta, tb);
-                    t0 = std::max(t0, ta);
-                    t1 = std::min(t1, tb);
-                }
+                double t0 = 0.0, t1 = 0.0;
+                if (!render::intersectBox(ray.origin, ray.direction, box.min, box.max, t0, t1)) t1 = t0;
                 double tau = 0.0;
                 for (double t = t0; t < t1; t += step) {
                     const double dt = std::min(step, t1 - t);

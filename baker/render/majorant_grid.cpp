@@ -44,19 +44,8 @@ MajorantTracker::MajorantTracker(const MajorantGrid& grid, const Ray& ray) : gri
     const double brick = Medium::kBrickSize;
     const glm::dvec3 g0 = (index_origin_ - medium.brickGridOrigin()) / brick;
     const glm::dvec3 dg = index_direction_ / brick;
-    double t_enter = 0.0, t_exit = std::numeric_limits<double>::infinity();
-    for (int axis = 0; axis < 3; ++axis) {
-        if (dg[axis] == 0.0) {
-            if (!(g0[axis] >= 0.0 && g0[axis] < counts[axis])) return;
-            continue;
-        }
-        double t0 = (0.0 - g0[axis]) / dg[axis];
-        double t1 = (counts[axis] - g0[axis]) / dg[axis];
-        if (t0 > t1) std::swap(t0, t1);
-        t_enter = std::max(t_enter, t0);
-        t_exit = std::min(t_exit, t1);
-    }
-    if (!(t_enter < t_exit)) return;  // also rejects NaN from a degenerate ray
+    double t_enter = 0.0, t_exit = 0.0;
+    if (!intersectBox(g0, dg, glm::dvec3(0.0), glm::dvec3(counts), t_enter, t_exit)) return;
 
     const glm::dvec3 entry = g0 + t_enter * dg;
     for (int axis = 0; axis < 3; ++axis) {
