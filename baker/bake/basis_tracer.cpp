@@ -248,11 +248,51 @@ CellGrid buildCellGrid(const render::Medium& medium, const std::vector<Voxel>& v
     return grid;
 }
 
-// Discrete distribution over occupied voxels for photon start points.
+// Photon start points: a voxel drawn from a discrete distribution, then an offset from the
+// trilinear hat around it (u1 - u2 per axis, in (-1, 1)). The start density is then the
+// trilinear interpolation of the voxel probabilities, so it covers exactly the region where
+// interpolated density (and so any source) can be non-zero, the outer half-voxel shells included.
 struct VoxelSampler {
     std::vector<double> cdf;  // normalised, cdf.back() == 1
     std::vector<double> probability;
+    glm::ivec3 origin{0}, dims{0};
+    std::vector<double> dense_probability;  // per voxel of the medium's box, 0 where unoccupied
 
+    VoxelSampler(const std::vector<double>& weights, const std::vector<Voxel>& voxels, const render::Medium& medium)
+        : VoxelSampler(weights) {
+        origin = medium.origin();
+        dims = medium.dims();
+        dense_probability.assign(static_cast<size_t>(dims.x) * dims.y * dims.z, 0.0);
+        for (size_t n = 0; n < voxels.size(); ++n) {
+            const glm::ivec3 r = voxels[n].index - origin;
+            dense_probability[r.x + static_cast<size_t>(dims.x) * (r.y + static_cast<size_t>(dims.y) * r.z)] =
+                probability[n];
+        }
+    }
+
+    glm::dvec3 startPoint(size_t voxel_index, const std::vector<Voxel>& voxels, render::Pcg32& rng) const {
+        glm::dvec3 offset;
+        for (int a = 0; a < 3; ++a) offset[a] = rng.uniform() - rng.uniform();
+        return glm::dvec3(voxels[voxel_index].index) + offset;
+    }
+
+    // Probability density of startPoint() at an index point, per unit index volume.
+    double densityAt(const glm::dvec3& index_point) const {
+        const glm::dvec3 relative = index_point - glm::dvec3(origin);
+        const glm::dvec3 base = glm::floor(relative);
+        const glm::dvec3 f = relative - base;
+        double sum = 0.0;
+        for (int c = 0; c < 8; ++c) {
+            const glm::ivec3 v = glm::ivec3(base) + glm::ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+            if (glm::any(glm::lessThan(v, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(v, dims))) continue;
+            const double w = ((c & 1) ? f.x : 1.0 - f.x) * (((c >> 1) & 1) ? f.y : 1.0 - f.y) *
+                             (((c >> 2) & 1) ? f.z : 1.0 - f.z);
+            sum += w * dense_probability[v.x + static_cast<size_t>(dims.x) * (v.y + static_cast<size_t>(dims.y) * v.z)];
+        }
+        return sum;
+    }
+
+private:
     explicit VoxelSampler(const std::vector<double>& weights) {
         double total = 0.0;
         for (double w : weights) total += w;
@@ -266,6 +306,8 @@ struct VoxelSampler {
         }
         if (!cdf.empty()) cdf.back() = 1.0;
     }
+
+public:
     bool empty() const { return cdf.empty(); }
     size_t sample(double u) const {
         const auto it = std::upper_bound(cdf.begin(), cdf.end(), u);
@@ -413,12 +455,11 @@ std::vector<float> photonPass(const TransportContext& ctx, SourceKind kind, cons
             render::Pcg32 rng =
                 render::Pcg32::forSample(seed, static_cast<uint64_t>(kind), static_cast<uint64_t>(n));
             const size_t v = sampler.sample(rng.uniform());
-            const glm::dvec3 start =
-                glm::dvec3(voxels[v].index) +
-                glm::dvec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
+            const glm::dvec3 start = sampler.startPoint(v, voxels, rng);
             const render::MediumSample at = ctx.medium.sampleIndex(start);
             // Track-length estimator of the cell-averaged Lbar: (Q/p) * tau * length / (N * V_cell).
-            const double pdf = sampler.probability[v] / voxel_volume;
+            const double pdf = sampler.densityAt(start) / voxel_volume;
+            if (!(pdf > 0.0)) continue;
             const float scale = static_cast<float>(1.0 / (pdf * photons * cell_volume));
             int bin_first = 0, bin_last = 0;
             bool any = false;
@@ -563,9 +604,12 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     // Scattering orders: Lbar_sum = sum over orders of the mean radiance each produces.
     // Tracks only feed cell averages over cell_voxels^3 voxels: a one-voxel step is accurate enough.
     const double track_step = std::max(settings.step_voxels, 1.0) * medium.minVoxelEdge();
+    // Tracks run to the end of the cell grid, not just of the influence box: the outer cells
+    // reach past it, and a cell's mean radiance is its track length over its whole volume.
+    const IndexBox cell_box{cells.origin, cells.origin + glm::dvec3(cells.count * cells.edge)};
     const TransportContext ctx{medium,       model,
                                tb,           cells,
-                               light_depths, influenceBox(medium),
+                               light_depths, cell_box,
                                track_step,   static_cast<size_t>(cells.slots) * G * C};
     std::vector<float> lbar_sum(ctx.field_size, 0.0f);
     if (model.albedo > 0.0) {
@@ -588,7 +632,7 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                 voxels[n].density * (0.5 / density_mass + 0.5 * per_bin / std::max(active_bins, 1));
             density_weight[n] = voxels[n].density;
         }
-        const VoxelSampler emission_sampler(emission_weight), density_sampler(density_weight);
+        const VoxelSampler emission_sampler(emission_weight, voxels, medium), density_sampler(density_weight, voxels, medium);
 
         std::vector<float> order = photonPass(ctx, SourceKind::Emission, emission_sampler, voxels, nullptr,
                                               settings.photons_primary, settings.seed);

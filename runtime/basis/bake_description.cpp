@@ -62,8 +62,16 @@ BakeDescription parseBakeDescription(const std::string& json_text, const std::st
         if (j.contains("default_look") && !j["default_look"].is_null()) d.default_look_json = j["default_look"].dump();
 
         validateAxes(d.axes);
-        if (d.bins.count < 1 || !(d.bins.t_hi > d.bins.t_lo)) throw std::invalid_argument("invalid temperature bins");
-        if (d.width < 1 || d.height < 1) throw std::invalid_argument("invalid image size");
+        // Bounds keep every size product (pixels, columns, pixels * rank) far inside 64 bits
+        // and the int arithmetic of the runtime well defined, whatever a file claims.
+        if (d.bins.count < 1 || d.bins.count > 256 || !(d.bins.t_hi > d.bins.t_lo))
+            throw std::invalid_argument("invalid temperature bins");
+        if (d.width < 1 || d.height < 1 || d.width > 16384 || d.height > 16384)
+            throw std::invalid_argument("image size must be 1..16384 pixels on each side");
+        if (d.axes.pointCount() > 65536 || d.light_directions.size() > 64 || d.alpha_thresholds.size() > 256)
+            throw std::invalid_argument("too many parameter samples, lights or alpha thresholds");
+        for (const FrameRecord& f : d.frames)
+            if (f.rank < 0 || f.rank > 4096) throw std::invalid_argument("frame rank out of range");
         if (d.alpha_thresholds.empty()) throw std::invalid_argument("no alpha thresholds");
         if (d.footprint_samples < 1 || d.footprint_samples > 64) throw std::invalid_argument("footprint_samples must be 1..64");
         return d;

@@ -35,7 +35,7 @@ struct BakeDescription {
 
     int columnsPerPoint() const { return bins.count + static_cast<int>(light_directions.size()); }
     int columnCount() const { return axes.pointCount() * columnsPerPoint(); }
-    int pixelCount() const { return width * height; }
+    int pixelCount() const { return width * height; }  // parseBakeDescription bounds it by 2^28
     const FrameRecord* findFrame(int frame) const;
 };
 

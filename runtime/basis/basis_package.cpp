@@ -1,6 +1,7 @@
 #include "basis/basis_package.h"
 
 #include <cstring>
+#include <glm/gtc/packing.hpp>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
@@ -31,12 +32,24 @@ std::vector<T> readArray(const package::PackageReader& reader, uint32_t type, in
 
 }  // namespace
 
+// Optical depths are stored as IEEE half: the relative error 2^-11 moves alpha by at most
+// max(tau e^-tau) * 2^-11 < 2e-4. The sigmoid depths are stored as their flame part
+// F = (O_a + O_b) / 2 = integral of rho (1 + f) / 2, which is exactly 0 wherever no flame
+// is crossed, so most of it compresses to nothing.
 void writeFrameFactors(package::PackageWriter& writer, const FrameFactors& factors) {
     const auto frame = static_cast<uint32_t>(factors.frame);
     writer.addSection(kSectionU, frame, bytesOf(factors.u_half));
     writer.addSection(kSectionSVt, frame, bytesOf(factors.svt));
-    std::vector<float> depths = factors.depth_density;
-    depths.insert(depths.end(), factors.depth_sigmoid.begin(), factors.depth_sigmoid.end());
+    const size_t rays = factors.depth_density.size();  // footprint samples x pixels
+    const size_t thresholds = rays == 0 ? 0 : factors.depth_sigmoid.size() / rays;
+    const size_t pixels = static_cast<size_t>(factors.pixels);
+    std::vector<uint16_t> depths;
+    depths.reserve(rays * (1 + thresholds));
+    for (float d : factors.depth_density) depths.push_back(glm::packHalf1x16(d));
+    for (size_t i = 0; i < factors.depth_sigmoid.size(); ++i) {
+        const size_t ray = (i / (thresholds * pixels)) * pixels + i % pixels;
+        depths.push_back(glm::packHalf1x16(0.5f * (factors.depth_sigmoid[i] + factors.depth_density[ray])));
+    }
     writer.addSection(kSectionDepths, frame, bytesOf(depths));
 }
 
@@ -82,12 +95,16 @@ FrameFactors BasisPackage::loadFrame(int frame) const {
     const size_t pixels = static_cast<size_t>(f.pixels);
     f.u_half = readArray<uint16_t>(reader_, kSectionU, frame, pixels * f.rank);
     f.svt = readArray<float>(reader_, kSectionSVt, frame, static_cast<size_t>(f.columns) * f.rank);
-    std::vector<float> depths =
-        readArray<float>(reader_, kSectionDepths, frame,
-                         pixels * description_.footprint_samples * (1 + description_.alpha_thresholds.size()));
-    const size_t density_count = pixels * description_.footprint_samples;
-    f.depth_density.assign(depths.begin(), depths.begin() + density_count);
-    f.depth_sigmoid.assign(depths.begin() + density_count, depths.end());
+    const size_t thresholds = description_.alpha_thresholds.size();
+    const size_t rays = pixels * description_.footprint_samples;
+    const std::vector<uint16_t> depths = readArray<uint16_t>(reader_, kSectionDepths, frame, rays * (1 + thresholds));
+    f.depth_density.resize(rays);
+    for (size_t i = 0; i < rays; ++i) f.depth_density[i] = glm::unpackHalf1x16(depths[i]);
+    f.depth_sigmoid.resize(rays * thresholds);
+    for (size_t i = 0; i < f.depth_sigmoid.size(); ++i) {
+        const size_t ray = (i / (thresholds * pixels)) * pixels + i % pixels;
+        f.depth_sigmoid[i] = 2.0f * glm::unpackHalf1x16(depths[rays + i]) - f.depth_density[ray];
+    }
     return f;
 }
 
