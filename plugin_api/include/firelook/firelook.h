@@ -1,0 +1,396 @@
+/* firelook.h — the C API of the FireLook runtime (C99, also valid C++).
+
+   FireLook recombines precomputed basis images of a volumetric fire into an
+   image for any look (Dobashi et al.). This library plays baked .firelook
+   packages: it keeps a world of fire instances, animates their looks and
+   frames, and gives you per instance either a CPU image or the few numbers a
+   shader needs to reconstruct the image on the GPU.
+
+   MANUAL
+   ------
+   1. Start-up. Fill an fl_init_desc with fl_init_desc_defaults() (which
+      records this header's version and struct sizes, like IMGUI_CHECKVERSION),
+      optionally add an allocator and a log callback, and call fl_init(). A
+      library built from a different header refuses with
+      FL_ERROR_VERSION_MISMATCH instead of misreading your structs.
+   2. Load a package: fl_package_load(path, &package). fl_package_get_info()
+      and friends describe it (frames, size, rank per frame, bins, lights,
+      parameter ranges, default look as JSON).
+   3. Make looks from look-file JSON (fl_look_from_json) or take the
+      package's default (fl_package_default_look).
+   4. Create a world (fl_world_create) and instances in it
+      (fl_instance_create); give them looks or keyframes, playback and
+      outputs.
+   5. Every frame: fl_world_update(world, dt), then read what you need:
+      fl_instance_get_image() (CPU image, premultiplied linear RGBA float),
+      fl_instance_get_flare(), or for GPU reconstruction
+      fl_instance_get_coefficients() + fl_instance_get_state() with the
+      textures from fl_package_get_frame_u() and fl_package_get_frame_depths().
+   6. Release everything and call fl_shutdown().
+
+   Conventions (after sokol_gfx, OpenEXRCore, Dear ImGui and flecs):
+   - Handles are structs holding a 32-bit id made of an index and a
+     generation; id 0 is never valid. A released or destroyed object's handle
+     is detected (FL_ERROR_INVALID_HANDLE), never dereferenced.
+   - Every struct that may grow starts with uint32_t struct_size = sizeof
+     the caller's struct; the library reads only the fields that fit in it
+     and rejects sizes smaller than the first published version
+     (FL_ERROR_STRUCT_SIZE). The *_defaults() functions are static inline
+     here, so they fill in the caller's sizeof. In desc structs, 0 means
+     "default" for every field.
+   - Every call returns an fl_result; FL_OK is 0, errors are negative.
+     fl_result_string() names a code; fl_last_error() gives the message of
+     the calling thread's last failed call (it names the file and the problem).
+   - Memory: nothing is returned that the caller must free. Data comes out
+     through buffers the caller provides (with the needed size reported, so a
+     call with capacity 0 asks for the size); the only borrowed pointers are
+     the strings from fl_result_string() (static) and fl_last_error() (valid
+     until the calling thread's next FireLook call).
+   - No C++ exception crosses this API. Non-finite inputs are refused.
+   - Thread-safety: fl_init/fl_shutdown must not overlap any other call.
+     Package and look calls (load, release, query, from_json) are safe from
+     any thread at any time. A world and its instances must be used by one
+     thread at a time (calls on different worlds may run in parallel);
+     fl_world_destroy must not overlap calls on the same world.
+
+   The image an instance produces is premultiplied linear RGBA, top row
+   first, with alpha = 1 - transmittance: final = rgb + (1 - alpha) * bg.
+   The lens flare is a separate RGBA image with alpha 0, added on top:
+   final = rgb + (1 - alpha) * bg + flare.
+*/
+#ifndef FIRELOOK_H
+#define FIRELOOK_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#define FIRELOOK_VERSION_MAJOR 0
+#define FIRELOOK_VERSION_MINOR 1
+#define FIRELOOK_VERSION_PATCH 0
+/* major * 10000 + minor * 100 + patch. fl_init() accepts a header of the same major and a minor no newer. */
+#define FIRELOOK_HEADER_VERSION 100
+
+#if defined(_WIN32)
+#  if defined(FIRELOOK_BUILDING_PLUGIN)
+#    define FIRELOOK_API __declspec(dllexport)
+#  else
+#    define FIRELOOK_API __declspec(dllimport)
+#  endif
+#elif defined(__GNUC__)
+#  define FIRELOOK_API __attribute__((visibility("default")))
+#else
+#  define FIRELOOK_API
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- results ------------------------------------------------------------ */
+
+typedef int32_t fl_result;
+enum {
+    FL_OK = 0,
+    FL_ERROR_INVALID_ARGUMENT = -1,  /* a null pointer, a non-finite or out-of-range value */
+    FL_ERROR_INVALID_HANDLE = -2,    /* 0, stale (released/destroyed) or from another world */
+    FL_ERROR_STRUCT_SIZE = -3,       /* struct_size too small or 0 */
+    FL_ERROR_VERSION_MISMATCH = -4,  /* header and library disagree (fl_init) */
+    FL_ERROR_NOT_INITIALIZED = -5,   /* fl_init has not succeeded */
+    FL_ERROR_ALREADY_INITIALIZED = -6,
+    FL_ERROR_IO = -7,                /* the file could not be opened or read */
+    FL_ERROR_NOT_A_PACKAGE = -8,     /* the file is not a .firelook package */
+    FL_ERROR_CORRUPT = -9,           /* truncated, checksum mismatch, inconsistent content */
+    FL_ERROR_UNSUPPORTED = -10,      /* a newer package version or a required feature this build lacks */
+    FL_ERROR_LOOK = -11,             /* bad look JSON, or a look that does not fit the package */
+    FL_ERROR_BUFFER_TOO_SMALL = -12, /* the needed size is reported through the size output */
+    FL_ERROR_OUT_OF_MEMORY = -13,
+    FL_ERROR_NO_DATA = -14,          /* output not enabled, or no fl_world_update since it was */
+    FL_ERROR_NOT_FOUND = -15,        /* no such frame in the package */
+    FL_ERROR_LIMIT = -16,            /* too many objects of one kind */
+    FL_ERROR_INTERNAL = -17          /* a bug: please report with fl_last_error() */
+};
+
+/* A short constant name ("FL_ERROR_INVALID_HANDLE"); never null; static storage. Callable any time. */
+FIRELOOK_API const char* fl_result_string(fl_result result);
+/* The calling thread's last error message ("" if none); valid until this thread's next FireLook call. */
+FIRELOOK_API const char* fl_last_error(void);
+
+/* ---- handles (0 is invalid) --------------------------------------------- */
+
+typedef struct fl_package { uint32_t id; } fl_package;
+typedef struct fl_look { uint32_t id; } fl_look;
+typedef struct fl_world { uint32_t id; } fl_world;
+typedef struct fl_instance { uint32_t id; } fl_instance;  /* valid within the world that created it */
+
+/* ---- start-up ----------------------------------------------------------- */
+
+typedef struct fl_allocator {
+    /* Both set or both null (null: malloc/free). Used for the worlds' large
+       buffers (images, flare images, coefficients, decoded factor copies);
+       package decompression and bookkeeping use the C++ heap. alloc must
+       return 16-byte aligned memory or null; calls may come from any thread
+       that calls into a world. */
+    void* (*alloc)(size_t size, void* user);
+    void (*free)(void* pointer, void* user);
+    void* user;
+} fl_allocator;
+
+enum { FL_LOG_DEBUG = 0, FL_LOG_INFO = 1, FL_LOG_WARNING = 2, FL_LOG_ERROR = 3 };
+/* message is valid during the call only. Called on the thread making the FireLook call. */
+typedef void (*fl_log_fn)(int32_t level, const char* message, void* user);
+
+typedef struct fl_init_desc {
+    uint32_t struct_size;     /* sizeof(fl_init_desc) */
+    uint32_t header_version;  /* FIRELOOK_HEADER_VERSION */
+    /* sizeof of every struct below, as the caller compiled them */
+    uint32_t sizeof_world_desc;
+    uint32_t sizeof_instance_desc;
+    uint32_t sizeof_playback_desc;
+    uint32_t sizeof_outputs_desc;
+    uint32_t sizeof_package_info;
+    uint32_t sizeof_instance_state;
+    uint32_t sizeof_keyframe;
+    uint32_t reserved;
+    fl_allocator allocator;
+    fl_log_fn log;            /* null: no logging */
+    void* log_user;
+    int32_t log_level;        /* lowest level passed to log; 0 = FL_LOG_DEBUG */
+    int32_t reserved2;
+} fl_init_desc;
+
+/* ---- packages ----------------------------------------------------------- */
+
+typedef struct fl_package_info {
+    uint32_t struct_size;  /* in: sizeof(fl_package_info) */
+    int32_t width, height;          /* image size in pixels */
+    int32_t frame_count;            /* baked frames (see fl_package_get_frames) */
+    int32_t first_frame, last_frame;
+    int32_t max_rank;               /* largest rank of any frame */
+    int32_t bin_count;              /* temperature bins */
+    int32_t light_count;            /* directional lights */
+    int32_t alpha_threshold_count;  /* T_c samples of the O_a layers (fl_package_get_frame_depths) */
+    int32_t footprint_samples;      /* rays per pixel whose optical depths are stored (alpha = their mean) */
+    int32_t reserved;
+    double temperature_lo, temperature_hi;  /* bin range, data units */
+    double rbf_width;               /* in units of the bin width */
+    double albedo;                  /* fixed at bake time; looks must match */
+    /* baked ranges of the look parameters (outside them the nearest baked value is used) */
+    double temperature_threshold_min, temperature_threshold_max;
+    double smoke_extinction_min, smoke_extinction_max;
+    double flame_extinction_min, flame_extinction_max;
+} fl_package_info;
+
+/* Thread-safe. Loads the package's description (frames are read on demand). */
+FIRELOOK_API fl_result fl_package_load(const char* path, fl_package* out_package);
+/* Thread-safe. Instances that use it keep its data alive until they are destroyed; the handle dies now. */
+FIRELOOK_API fl_result fl_package_release(fl_package package);
+FIRELOOK_API fl_result fl_package_get_info(fl_package package, fl_package_info* out_info);
+/* Frame numbers and each frame's rank, in increasing frame order; either array may be null.
+   capacity: entries available; *out_count (if not null) gets frame_count. */
+FIRELOOK_API fl_result fl_package_get_frames(fl_package package, int32_t* frame_numbers, int32_t* ranks,
+                                             uint32_t capacity, uint32_t* out_count);
+/* The T_c of each O_a layer (alpha_threshold_count values). */
+FIRELOOK_API fl_result fl_package_get_alpha_thresholds(fl_package package, double* thresholds, uint32_t capacity);
+/* The default look as look-file JSON, NUL-terminated. *out_size gets the bytes needed including the NUL.
+   capacity 0 (buffer may be null) only asks for the size. */
+FIRELOOK_API fl_result fl_package_get_default_look_json(fl_package package, char* buffer, size_t capacity,
+                                                        size_t* out_size);
+/* The frame's U for GPU reconstruction, copied into the caller's buffer (reads and decompresses the frame
+   each call: call once per upload). Layout: layers = ceil(rank / 4) RGBA16F images of width x height;
+   layer l, pixel (x, y), channel c holds U[pixel][4 l + c] (0 beyond the rank), IEEE half floats:
+       buffer[((l * height + y) * width + x) * 4 + c]      (y = 0 is the top row)
+   i.e. a 2D texture array (or a tall 2D texture of height layers * height). capacity and *out_count are
+   in uint16_t elements: layers * width * height * 4. */
+FIRELOOK_API fl_result fl_package_get_frame_u(fl_package package, int32_t frame, uint16_t* buffer, size_t capacity,
+                                              size_t* out_count);
+/* The frame's optical depths for exact alpha, float32 single-channel layers of width x height, with
+   S = footprint_samples and T = alpha_threshold_count: first S layers O_b(s), then S * T layers
+   O_a(s, j) (sample-major: layer S + s * T + j):
+       buffer[(layer * height + y) * width + x]
+   capacity and *out_count in floats: S * (1 + T) * width * height. */
+FIRELOOK_API fl_result fl_package_get_frame_depths(fl_package package, int32_t frame, float* buffer,
+                                                   size_t capacity, size_t* out_count);
+
+/* ---- looks -------------------------------------------------------------- */
+
+/* Thread-safe. json: a firelook-look document (docs in DESIGN.md section 6); length 0 = NUL-terminated.
+   source_name (may be null) prefixes error messages. Looks are checked against a package when used. */
+FIRELOOK_API fl_result fl_look_from_json(const char* json, size_t length, const char* source_name, fl_look* out_look);
+FIRELOOK_API fl_result fl_package_default_look(fl_package package, fl_look* out_look);
+/* Thread-safe. Instances copy looks when they are set: releasing a look never affects them. */
+FIRELOOK_API fl_result fl_look_release(fl_look look);
+/* The look as JSON (same size convention as fl_package_get_default_look_json). */
+FIRELOOK_API fl_result fl_look_to_json(fl_look look, char* buffer, size_t capacity, size_t* out_size);
+
+/* ---- worlds and instances ---------------------------------------------- */
+
+typedef struct fl_world_desc {
+    uint32_t struct_size;
+    uint32_t reserved;
+    /* Bound on the frame cache (decompressed factors, decoded U): least recently used frames not used by
+       the current update are evicted after each update. 0 = 512 MiB. */
+    uint64_t frame_cache_bytes;
+} fl_world_desc;
+
+typedef struct fl_instance_desc {
+    uint32_t struct_size;
+    fl_package package;  /* required */
+    fl_look look;        /* 0: the package's default look */
+} fl_instance_desc;
+
+typedef struct fl_keyframe {
+    double frame;  /* package frame number, fractional allowed */
+    fl_look look;
+    uint32_t reserved;
+} fl_keyframe;
+
+typedef struct fl_playback_desc {
+    uint32_t struct_size;
+    int32_t paused;           /* non-zero: fl_world_update does not advance the time */
+    int32_t no_loop;          /* non-zero: clamp at the ends of the range instead of wrapping */
+    int32_t use_frame_range;  /* non-zero: play first_frame..last_frame (clamped to the baked frames) */
+    int32_t first_frame, last_frame;
+    double time;  /* seconds from the start of the range */
+    double rate;  /* frames per second; 0 = 24; negative plays backwards */
+} fl_playback_desc;
+
+typedef struct fl_outputs_desc {
+    uint32_t struct_size;
+    int32_t image;       /* non-zero: CPU image each update */
+    int32_t lens_flare;  /* non-zero: lens flare each update (requires image) */
+    /* Lens flare settings; 0 = default, negative = off for the intensities and counts:
+       threshold (1.0): luminance above which light feeds the flare (use a tiny positive value for 0);
+       intensity (0.15); ghost_count (4, max 8); ghost_spacing (0.45): ghost i is the bright image scaled by
+       -(spacing (i+1)) for even i and +(spacing (i+1)) for odd i through the image centre; halo_radius (0.6)
+       and halo_width (0.08) as fractions of half the image diagonal; halo_intensity (0.5); streak_length (0.06)
+       decay length as a fraction of the width; streak_intensity (0.6); streaks (1: horizontal, 2: + vertical). */
+    float flare_threshold;
+    float flare_intensity;
+    int32_t ghost_count;
+    float ghost_spacing;
+    float halo_radius;
+    float halo_width;
+    float halo_intensity;
+    float streak_length;
+    float streak_intensity;
+    int32_t streaks;
+} fl_outputs_desc;
+
+/* What the last update produced for an instance; with the package's U and depth textures this is all a
+   shader needs:  rgb(p) = max(0, sum_k U[p][k] * z[k])  (z from fl_instance_get_coefficients),
+   alpha(p) = mean over the footprint samples s of 1 - exp(-(extinction_a * O_a(s, p) + extinction_b * O_b(s, p))),
+   O_a(s, p) = (1 - alpha_layer_t) * O_a(s, alpha_layer_lower)(p) + alpha_layer_t * O_a(s, alpha_layer_upper)(p)
+   (threshold indices j of fl_package_get_frame_depths). */
+typedef struct fl_instance_state {
+    uint32_t struct_size;
+    int32_t updated;  /* 0 until the first update after creation */
+    int32_t frame;    /* baked frame shown */
+    int32_t rank;     /* of that frame: z has rank x 3 floats */
+    double frame_position;  /* continuous; keyframes are evaluated here */
+    double time;            /* playback time after wrapping */
+    double temperature_threshold, smoke_extinction, flame_extinction;  /* the interpolated look */
+    float extinction_a, extinction_b;
+    int32_t alpha_layer_lower, alpha_layer_upper;
+    float alpha_layer_t;
+    int32_t reserved;
+} fl_instance_state;
+
+/* Worlds: fl_world_create/destroy are thread-safe with respect to other worlds. */
+FIRELOOK_API fl_result fl_world_create(const fl_world_desc* desc, fl_world* out_world);  /* desc may be null */
+/* Destroys the world and every instance in it. */
+FIRELOOK_API fl_result fl_world_destroy(fl_world world);
+/* Runs playback -> keyframes -> coefficients -> images -> lens flare for every instance. dt in seconds. */
+FIRELOOK_API fl_result fl_world_update(fl_world world, double dt);
+FIRELOOK_API fl_result fl_world_instance_count(fl_world world, uint32_t* out_count);
+
+FIRELOOK_API fl_result fl_instance_create(fl_world world, const fl_instance_desc* desc, fl_instance* out_instance);
+FIRELOOK_API fl_result fl_instance_destroy(fl_world world, fl_instance instance);
+/* A constant look (replaces any keyframes). */
+FIRELOOK_API fl_result fl_instance_set_look(fl_world world, fl_instance instance, fl_look look);
+/* Keys at package frame numbers (any order; count >= 1); linear in every parameter and each bin's colour
+   between keys, held before the first and after the last. All keys must fit the package (albedo, lights). */
+FIRELOOK_API fl_result fl_instance_set_keyframes(fl_world world, fl_instance instance, const fl_keyframe* keys,
+                                                 uint32_t count);
+FIRELOOK_API fl_result fl_instance_set_playback(fl_world world, fl_instance instance, const fl_playback_desc* desc);
+FIRELOOK_API fl_result fl_instance_set_outputs(fl_world world, fl_instance instance, const fl_outputs_desc* desc);
+FIRELOOK_API fl_result fl_instance_get_state(fl_world world, fl_instance instance, fl_instance_state* out_state);
+/* z = S V^T w of the last update, rank x 3 floats, z[k * 3 + channel]. capacity in floats; *out_rank gets the
+   rank (a capacity of 0 only asks for it). */
+FIRELOOK_API fl_result fl_instance_get_coefficients(fl_world world, fl_instance instance, float* z,
+                                                    size_t capacity, int32_t* out_rank);
+/* The CPU image of the last update: width x height x 4 floats, premultiplied linear RGBA, top row first.
+   FL_ERROR_NO_DATA if the image output is off or no update ran since it was turned on. */
+FIRELOOK_API fl_result fl_instance_get_image(fl_world world, fl_instance instance, float* rgba, size_t capacity);
+/* The lens flare of the last update: same size, RGBA with A = 0, to be added on top. */
+FIRELOOK_API fl_result fl_instance_get_flare(fl_world world, fl_instance instance, float* rgba, size_t capacity);
+
+/* ---- start-up and shutdown ---------------------------------------------- */
+
+FIRELOOK_API fl_result fl_init(const fl_init_desc* desc);
+/* Releases every package, look and world; all handles become invalid. */
+FIRELOOK_API fl_result fl_shutdown(void);
+/* The library's FIRELOOK_HEADER_VERSION. Callable any time. */
+FIRELOOK_API uint32_t fl_version(void);
+
+/* ---- defaults (inline: they record the caller's struct sizes) ---------- */
+
+#if defined(__GNUC__)
+#  define FIRELOOK_INLINE static inline __attribute__((unused))
+#else
+#  define FIRELOOK_INLINE static inline
+#endif
+#ifdef __cplusplus
+#  define FIRELOOK_ZERO {}
+#else
+#  define FIRELOOK_ZERO {0}
+#endif
+
+FIRELOOK_INLINE fl_init_desc fl_init_desc_defaults(void) {
+    fl_init_desc d = FIRELOOK_ZERO;
+    d.struct_size = (uint32_t)sizeof(fl_init_desc);
+    d.header_version = FIRELOOK_HEADER_VERSION;
+    d.sizeof_world_desc = (uint32_t)sizeof(fl_world_desc);
+    d.sizeof_instance_desc = (uint32_t)sizeof(fl_instance_desc);
+    d.sizeof_playback_desc = (uint32_t)sizeof(fl_playback_desc);
+    d.sizeof_outputs_desc = (uint32_t)sizeof(fl_outputs_desc);
+    d.sizeof_package_info = (uint32_t)sizeof(fl_package_info);
+    d.sizeof_instance_state = (uint32_t)sizeof(fl_instance_state);
+    d.sizeof_keyframe = (uint32_t)sizeof(fl_keyframe);
+    return d;
+}
+FIRELOOK_INLINE fl_world_desc fl_world_desc_defaults(void) {
+    fl_world_desc d = FIRELOOK_ZERO;
+    d.struct_size = (uint32_t)sizeof(fl_world_desc);
+    return d;
+}
+FIRELOOK_INLINE fl_instance_desc fl_instance_desc_defaults(void) {
+    fl_instance_desc d = FIRELOOK_ZERO;
+    d.struct_size = (uint32_t)sizeof(fl_instance_desc);
+    return d;
+}
+FIRELOOK_INLINE fl_playback_desc fl_playback_desc_defaults(void) {
+    fl_playback_desc d = FIRELOOK_ZERO;
+    d.struct_size = (uint32_t)sizeof(fl_playback_desc);
+    return d;
+}
+FIRELOOK_INLINE fl_outputs_desc fl_outputs_desc_defaults(void) {
+    fl_outputs_desc d = FIRELOOK_ZERO;
+    d.struct_size = (uint32_t)sizeof(fl_outputs_desc);
+    return d;
+}
+FIRELOOK_INLINE fl_package_info fl_package_info_defaults(void) {
+    fl_package_info d = FIRELOOK_ZERO;
+    d.struct_size = (uint32_t)sizeof(fl_package_info);
+    return d;
+}
+FIRELOOK_INLINE fl_instance_state fl_instance_state_defaults(void) {
+    fl_instance_state d = FIRELOOK_ZERO;
+    d.struct_size = (uint32_t)sizeof(fl_instance_state);
+    return d;
+}
+
+#ifdef __cplusplus
+}  /* extern "C" */
+#endif
+
+#endif  /* FIRELOOK_H */

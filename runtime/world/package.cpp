@@ -1,0 +1,51 @@
+#include "world/package.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "look/look.h"
+
+namespace firelook::runtime {
+
+Package::Package(basis::BasisPackage package) : package_(std::move(package)), name_(package_.file().string()) {
+    std::vector<basis::FrameRecord> records = package_.description().frames;
+    std::sort(records.begin(), records.end(),
+              [](const basis::FrameRecord& a, const basis::FrameRecord& b) { return a.frame < b.frame; });
+    for (const basis::FrameRecord& r : records) {
+        frame_numbers_.push_back(r.frame);
+        frame_ranks_.push_back(r.rank);
+        max_rank_ = std::max(max_rank_, r.rank);
+    }
+}
+
+std::shared_ptr<const Package> Package::open(const std::filesystem::path& file) {
+    std::shared_ptr<Package> p(new Package(basis::BasisPackage::open(file)));
+    const basis::BakeDescription& d = p->description();
+    if (p->frame_numbers_.empty()) throw std::runtime_error(p->name_ + ": the package has no baked frames");
+    if (d.width <= 0 || d.height <= 0) throw std::runtime_error(p->name_ + ": the package's image size is empty");
+    for (size_t i = 1; i < p->frame_numbers_.size(); ++i)
+        if (p->frame_numbers_[i] == p->frame_numbers_[i - 1])
+            throw std::runtime_error(p->name_ + ": frame " + std::to_string(p->frame_numbers_[i]) +
+                                     " is listed twice");
+    for (int r : p->frame_ranks_)
+        if (r < 0) throw std::runtime_error(p->name_ + ": a frame has a negative rank");
+    // The default look must be usable as is (it is every instance's initial look).
+    const Look look = parseLook(d.default_look_json, p->name_ + " (default look)");
+    makeLookModel(look, d.bins, d.rbf_width, d.light_directions);
+    return p;
+}
+
+int Package::slotAtOrBelow(double frame_number) const {
+    if (frame_numbers_.empty()) return -1;
+    if (!(frame_number >= frame_numbers_.front())) return 0;  // also NaN
+    const auto it = std::upper_bound(frame_numbers_.begin(), frame_numbers_.end(), frame_number,
+                                     [](double v, int f) { return v < static_cast<double>(f); });
+    return static_cast<int>(it - frame_numbers_.begin()) - 1;
+}
+
+int Package::slotOf(int frame_number) const {
+    const auto it = std::lower_bound(frame_numbers_.begin(), frame_numbers_.end(), frame_number);
+    return it != frame_numbers_.end() && *it == frame_number ? static_cast<int>(it - frame_numbers_.begin()) : -1;
+}
+
+}  // namespace firelook::runtime

@@ -1,0 +1,51 @@
+// A loaded .firelook package as the runtime world shares it between instances
+// (and between worlds): the bake description plus read access to each baked
+// frame's factors. Immutable after open(); the const members are safe to call
+// from several threads at once (the package reader's const members are).
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "basis/basis_package.h"
+
+namespace firelook::runtime {
+
+class Package {
+  public:
+    // Throws package::PackageError / std::runtime_error naming the file. Also
+    // checks what the runtime relies on: at least one frame, a non-empty image,
+    // the default look parses against the package.
+    static std::shared_ptr<const Package> open(const std::filesystem::path& file);
+
+    const basis::BakeDescription& description() const { return package_.description(); }
+    const basis::BasisPackage& basis() const { return package_; }
+    const std::filesystem::path& file() const { return package_.file(); }
+    const std::string& name() const { return name_; }  // the path as text, for messages
+
+    // Baked frames in increasing frame number; frame slots index this list.
+    int frameCount() const { return static_cast<int>(frame_numbers_.size()); }
+    int frameNumber(int slot) const { return frame_numbers_[slot]; }
+    int frameRank(int slot) const { return frame_ranks_[slot]; }
+    int maxRank() const { return max_rank_; }
+    // Slot of the last baked frame whose number is <= frame_number (the first
+    // slot if none); -1 only for an empty package (open() refuses those).
+    int slotAtOrBelow(double frame_number) const;
+    // Slot of exactly this frame number, or -1.
+    int slotOf(int frame_number) const;
+
+    // Decompresses one frame (by slot). Allocates; not for the hot path.
+    basis::FrameFactors loadSlot(int slot) const { return package_.loadFrame(frame_numbers_[slot]); }
+
+  private:
+    explicit Package(basis::BasisPackage package);
+    basis::BasisPackage package_;
+    std::string name_;
+    std::vector<int> frame_numbers_;
+    std::vector<int> frame_ranks_;
+    int max_rank_ = 0;
+};
+
+}  // namespace firelook::runtime

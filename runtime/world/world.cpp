@@ -1,0 +1,371 @@
+#include "world/world.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "basis/recombine.h"
+#include "world/coefficient_kernel.h"
+
+namespace firelook::runtime {
+namespace {
+
+constexpr uint32_t kSlotBits = 20;
+constexpr uint32_t kSlotMask = (1u << kSlotBits) - 1;
+constexpr uint32_t kMaxSlots = kSlotMask;  // slot + 1 must fit in the low bits
+constexpr uint16_t kGenerationMask = 0xFFF;
+
+InstanceHandle makeHandle(uint32_t slot, uint16_t generation) {
+    return (static_cast<uint32_t>(generation) << kSlotBits) | (slot + 1);
+}
+
+// Frame range of an instance, clamped to the package's baked frames.
+std::pair<int, int> frameRange(const Package& p, const PlaybackSettings& pb) {
+    const int first_baked = p.frameNumber(0), last_baked = p.frameNumber(p.frameCount() - 1);
+    int first = std::clamp(pb.first_frame, first_baked, last_baked);
+    int last = std::clamp(pb.last_frame, first_baked, last_baked);
+    if (last < first) std::swap(first, last);
+    return {first, last};
+}
+
+}  // namespace
+
+World::World(WorldSettings settings)
+    : settings_(settings),
+      rbf_(HostAllocator<Rgb>(&settings_.memory)),
+      lights_(HostAllocator<Rgb>(&settings_.memory)),
+      z_(HostAllocator<float>(&settings_.memory)),
+      scratch_(HostAllocator<float>(&settings_.memory)),
+      flare_scratch_(HostAllocator<float>(&settings_.memory)) {
+    if ((settings_.memory.alloc == nullptr) != (settings_.memory.free == nullptr))
+        throw std::invalid_argument("memory hooks: set both alloc and free, or neither");
+}
+
+World::~World() = default;
+
+int World::denseIndex(InstanceHandle h) const {
+    const uint32_t low = h & kSlotMask;
+    if (h == 0 || low == 0) throw InvalidHandle("invalid instance handle (0)");
+    const uint32_t slot = low - 1;
+    if (slot >= generation_.size() || slot_to_dense_[slot] < 0 || generation_[slot] != (h >> kSlotBits))
+        throw InvalidHandle("stale or unknown instance handle " + std::to_string(h));
+    return slot_to_dense_[slot];
+}
+
+bool World::valid(InstanceHandle h) const {
+    const uint32_t low = h & kSlotMask;
+    if (low == 0) return false;
+    const uint32_t slot = low - 1;
+    return slot < generation_.size() && slot_to_dense_[slot] >= 0 && generation_[slot] == (h >> kSlotBits);
+}
+
+int World::acquirePackage(std::shared_ptr<const Package> package) {
+    for (size_t i = 0; i < packages_.size(); ++i)
+        if (packages_[i].package == package) return static_cast<int>(i);
+    for (size_t i = 0; i < packages_.size(); ++i)
+        if (!packages_[i].package) {
+            packages_[i].package = std::move(package);
+            packages_[i].frames.resize(packages_[i].package->frameCount());
+            return static_cast<int>(i);
+        }
+    PackageEntry e;
+    e.frames.resize(package->frameCount());
+    e.package = std::move(package);
+    packages_.push_back(std::move(e));
+    return static_cast<int>(packages_.size()) - 1;
+}
+
+void World::releasePackage(int index) {
+    PackageEntry& e = packages_[index];
+    if (--e.users > 0) return;
+    for (FrameEntry& f : e.frames) cache_bytes_ -= f.bytes;
+    e.frames.clear();
+    e.package.reset();
+}
+
+void World::ensureStrides(const Package& p) {
+    const int bins = p.description().bins.count;
+    const int lights = static_cast<int>(p.description().light_directions.size());
+    const int z = p.maxRank() * 3;
+    const size_t n = dense_to_slot_.size();
+    auto relayout = [n](auto& v, int old_stride, int new_stride) {
+        auto fresh = v;  // same allocator
+        fresh.assign(n * new_stride, typename std::decay_t<decltype(v)>::value_type{});
+        for (size_t i = 0; i < n; ++i)
+            std::copy(v.begin() + i * old_stride, v.begin() + i * old_stride + old_stride,
+                      fresh.begin() + i * new_stride);
+        v.swap(fresh);
+    };
+    if (bins > bins_stride_) {
+        relayout(rbf_, bins_stride_, bins);
+        bins_stride_ = bins;
+    }
+    if (lights > lights_stride_) {
+        relayout(lights_, lights_stride_, lights);
+        lights_stride_ = lights;
+    }
+    if (z > z_stride_) {
+        relayout(z_, z_stride_, z);
+        z_stride_ = z;
+    }
+    if (scratch_.size() < static_cast<size_t>(z)) scratch_.resize(z);
+}
+
+InstanceHandle World::create(std::shared_ptr<const Package> package) {
+    if (!package) throw std::invalid_argument("create: null package");
+    const basis::BakeDescription& d = package->description();
+    Keyframe key{0.0, resolveLook(parseLook(d.default_look_json, package->name() + " (default look)"), d)};
+    if (free_slots_.empty() && generation_.size() >= kMaxSlots)
+        throw std::invalid_argument("too many instances (the limit is " + std::to_string(kMaxSlots) + ")");
+
+    ensureStrides(*package);  // may relayout; harmless if a later step throws
+    const int pkg = acquirePackage(std::move(package));
+    ++packages_[pkg].users;
+
+    uint32_t slot;
+    if (!free_slots_.empty()) {
+        slot = free_slots_.back();
+        free_slots_.pop_back();
+    } else {
+        slot = static_cast<uint32_t>(generation_.size());
+        generation_.push_back(1);
+        slot_to_dense_.push_back(-1);
+    }
+    const int dense = static_cast<int>(dense_to_slot_.size());
+    slot_to_dense_[slot] = dense;
+    dense_to_slot_.push_back(slot);
+    package_index_.push_back(pkg);
+    keys_.push_back({std::move(key)});
+    playback_.push_back({});
+    outputs_.push_back({});
+    frame_position_.push_back(packages_[pkg].package->frameNumber(0));
+    frame_slot_.push_back(0);
+    extinction_.push_back(keys_.back()[0].look.extinction);
+    updated_.push_back(0);
+    rbf_.resize(rbf_.size() + bins_stride_);
+    lights_.resize(lights_.size() + lights_stride_);
+    z_.resize(z_.size() + z_stride_);
+    image_.emplace_back(HostAllocator<float>(&settings_.memory));
+    flare_.emplace_back(HostAllocator<float>(&settings_.memory));
+    return makeHandle(slot, generation_[slot]);
+}
+
+void World::destroy(InstanceHandle h) {
+    const int dense = denseIndex(h);
+    const int last = static_cast<int>(dense_to_slot_.size()) - 1;
+    const uint32_t slot = dense_to_slot_[dense];
+    releasePackage(package_index_[dense]);
+    auto move_last = [&](auto& v) {
+        if (dense != last) v[dense] = std::move(v[last]);
+        v.pop_back();
+    };
+    auto move_last_strided = [&](auto& v, int stride) {
+        if (dense != last)
+            std::copy(v.begin() + size_t(last) * stride, v.begin() + size_t(last + 1) * stride,
+                      v.begin() + size_t(dense) * stride);
+        v.resize(size_t(last) * stride);
+    };
+    move_last(package_index_);
+    move_last(keys_);
+    move_last(playback_);
+    move_last(outputs_);
+    move_last(frame_position_);
+    move_last(frame_slot_);
+    move_last(extinction_);
+    move_last(updated_);
+    move_last(image_);
+    move_last(flare_);
+    move_last_strided(rbf_, bins_stride_);
+    move_last_strided(lights_, lights_stride_);
+    move_last_strided(z_, z_stride_);
+    if (dense != last) {
+        dense_to_slot_[dense] = dense_to_slot_[last];
+        slot_to_dense_[dense_to_slot_[dense]] = dense;
+    }
+    dense_to_slot_.pop_back();
+    slot_to_dense_[slot] = -1;
+    uint16_t g = static_cast<uint16_t>((generation_[slot] + 1) & kGenerationMask);
+    generation_[slot] = g == 0 ? 1 : g;
+    free_slots_.push_back(slot);
+}
+
+void World::setLook(InstanceHandle h, const Look& look) {
+    const std::pair<double, Look> key{0.0, look};
+    setKeyframes(h, std::span(&key, 1));
+}
+
+void World::setKeyframes(InstanceHandle h, std::span<const std::pair<double, Look>> keys) {
+    const int dense = denseIndex(h);
+    if (keys.empty()) throw std::invalid_argument("setKeyframes: at least one key is required");
+    const basis::BakeDescription& d = packages_[package_index_[dense]].package->description();
+    std::vector<Keyframe> resolved;
+    resolved.reserve(keys.size());
+    for (const auto& [frame, look] : keys) {
+        if (!std::isfinite(frame)) throw std::invalid_argument("setKeyframes: a key's frame is not finite");
+        resolved.push_back({frame, resolveLook(look, d)});
+    }
+    std::stable_sort(resolved.begin(), resolved.end(),
+                     [](const Keyframe& a, const Keyframe& b) { return a.frame < b.frame; });
+    keys_[dense] = std::move(resolved);
+}
+
+void World::setPlayback(InstanceHandle h, const PlaybackSettings& pb) {
+    const int dense = denseIndex(h);
+    if (!std::isfinite(pb.time) || !std::isfinite(pb.rate))
+        throw std::invalid_argument("setPlayback: time and rate must be finite");
+    playback_[dense] = pb;
+}
+
+void World::setOutputs(InstanceHandle h, const OutputSettings& out) {
+    const int dense = denseIndex(h);
+    if (out.lens_flare && !out.image)
+        throw std::invalid_argument("setOutputs: the lens flare is computed from the image; enable the image too");
+    const basis::BakeDescription& d = packages_[package_index_[dense]].package->description();
+    const size_t floats = static_cast<size_t>(d.pixelCount()) * 4;
+    if (out.image) image_[dense].resize(floats);
+    else image_[dense] = HostVector<float>(HostAllocator<float>(&settings_.memory));
+    if (out.lens_flare) {
+        flare_[dense].resize(floats);
+        const size_t need = lensFlareScratchFloats(d.width, d.height);
+        if (flare_scratch_.size() < need) flare_scratch_.resize(need);
+    } else {
+        flare_[dense] = HostVector<float>(HostAllocator<float>(&settings_.memory));
+    }
+    outputs_[dense] = out;
+    // New buffers hold nothing valid until the next update.
+    updated_[dense] = 0;
+}
+
+const PlaybackSettings& World::playback(InstanceHandle h) const { return playback_[denseIndex(h)]; }
+const Package& World::package(InstanceHandle h) const { return *packages_[package_index_[denseIndex(h)]].package; }
+
+World::FrameEntry& World::residentFrame(int package_index, int slot) {
+    PackageEntry& pe = packages_[package_index];
+    FrameEntry& e = pe.frames[slot];
+    if (!e.factors) {
+        auto f = std::make_unique<basis::FrameFactors>(pe.package->loadSlot(slot));
+        e.bytes = f->u_half.size() * sizeof(uint16_t) +
+                  (f->svt.size() + f->depth_density.size() + f->depth_sigmoid.size()) * sizeof(float);
+        e.factors = std::move(f);
+        cache_bytes_ += e.bytes;
+        ++frame_loads_;
+    }
+    e.last_used = update_count_;
+    return e;
+}
+
+void World::ensureUFloat(FrameEntry& e) {
+    if (!e.u_float.empty() || e.factors->u_half.empty()) return;
+    const std::vector<float> decoded = basis::decodeU(*e.factors);
+    e.u_float.assign(decoded.begin(), decoded.end());
+    e.bytes += e.u_float.size() * sizeof(float);
+    cache_bytes_ += e.u_float.size() * sizeof(float);
+}
+
+size_t World::cachedFrames() const {
+    size_t n = 0;
+    for (const PackageEntry& p : packages_)
+        for (const FrameEntry& f : p.frames) n += f.factors ? 1 : 0;
+    return n;
+}
+
+void World::trimCache() {
+    while (cache_bytes_ > settings_.frame_cache_bytes) {
+        FrameEntry* oldest = nullptr;
+        for (PackageEntry& p : packages_)
+            for (FrameEntry& f : p.frames)
+                if (f.factors && f.last_used < update_count_ && (!oldest || f.last_used < oldest->last_used))
+                    oldest = &f;
+        if (!oldest) return;  // everything cached is in use by this update
+        cache_bytes_ -= oldest->bytes;
+        *oldest = FrameEntry{nullptr, HostVector<float>(HostAllocator<float>(&settings_.memory)), 0, 0};
+    }
+}
+
+void World::update(double dt) {
+    if (!std::isfinite(dt)) throw std::invalid_argument("update: dt must be finite");
+    ++update_count_;
+    const size_t n = dense_to_slot_.size();
+
+    // 1. Playback.
+    for (size_t i = 0; i < n; ++i) {
+        const Package& p = *packages_[package_index_[i]].package;
+        PlaybackSettings& pb = playback_[i];
+        if (pb.playing) pb.time += dt;
+        const auto [first, last] = frameRange(p, pb);
+        const double span = static_cast<double>(last) - first + 1.0;  // frame f shows for [f, f + 1)
+        double offset;
+        if (pb.loop && pb.rate != 0.0) {
+            // Wrap the time itself so it never grows large enough to lose precision.
+            const double period = span / std::abs(pb.rate);
+            pb.time = std::fmod(pb.time, period);
+            if (pb.time < 0.0) pb.time += period;
+            offset = pb.time * pb.rate;  // [0, span) forwards, (-span, 0] backwards
+            if (offset < 0.0) offset += span;
+            if (!(offset < span)) offset = 0.0;  // rounding at the wrap
+        } else if (pb.loop) {
+            offset = 0.0;
+        } else {
+            offset = std::clamp(pb.time * pb.rate, 0.0, static_cast<double>(last - first));
+        }
+        frame_position_[i] = first + offset;
+        frame_slot_[i] = p.slotAtOrBelow(frame_position_[i]);
+    }
+
+    // 2. Keyframes.
+    for (size_t i = 0; i < n; ++i)
+        sampleKeyframes(keys_[i], frame_position_[i], extinction_[i], rbf_.data() + i * bins_stride_,
+                        lights_.data() + i * lights_stride_);
+
+    // 3 + 4. Residency and coefficients.
+    for (size_t i = 0; i < n; ++i) {
+        const int pkg = package_index_[i];
+        const FrameEntry& e = residentFrame(pkg, frame_slot_[i]);
+        computeCoefficientsFast(packages_[pkg].package->description(), *e.factors, extinction_[i],
+                                rbf_.data() + i * bins_stride_, lights_.data() + i * lights_stride_, scratch_.data(),
+                                z_.data() + i * z_stride_);
+    }
+
+    // 5. CPU images.
+    for (size_t i = 0; i < n; ++i) {
+        if (!outputs_[i].image) continue;
+        const int pkg = package_index_[i];
+        FrameEntry& e = residentFrame(pkg, frame_slot_[i]);
+        ensureUFloat(e);
+        basis::reconstructImage(packages_[pkg].package->description(), *e.factors, e.u_float,
+                                std::span<const float>(z_.data() + i * z_stride_, z_stride_), extinction_[i],
+                                image_[i]);
+    }
+
+    // 6. Lens flare.
+    for (size_t i = 0; i < n; ++i) {
+        if (!outputs_[i].lens_flare) continue;
+        const basis::BakeDescription& d = packages_[package_index_[i]].package->description();
+        renderLensFlare(image_[i].data(), d.width, d.height, outputs_[i].flare, flare_scratch_.data(),
+                        flare_[i].data());
+    }
+
+    std::fill(updated_.begin(), updated_.end(), uint8_t{1});
+    trimCache();
+}
+
+InstanceState World::state(InstanceHandle h) const {
+    const int i = denseIndex(h);
+    const PackageEntry& pe = packages_[package_index_[i]];
+    const Package& p = *pe.package;
+    InstanceState s;
+    s.frame = p.frameNumber(frame_slot_[i]);
+    s.frame_position = frame_position_[i];
+    s.time = playback_[i].time;
+    s.rank = p.frameRank(frame_slot_[i]);
+    s.z = z_.data() + size_t(i) * z_stride_;
+    s.extinction = extinction_[i];
+    s.rbf = std::span<const Rgb>(rbf_.data() + size_t(i) * bins_stride_, p.description().bins.count);
+    s.lights = std::span<const Rgb>(lights_.data() + size_t(i) * lights_stride_,
+                                    p.description().light_directions.size());
+    s.updated = updated_[i] != 0;
+    s.image = s.updated && outputs_[i].image ? image_[i].data() : nullptr;
+    s.flare = s.updated && outputs_[i].lens_flare ? flare_[i].data() : nullptr;
+    return s;
+}
+
+}  // namespace firelook::runtime

@@ -1,0 +1,190 @@
+// The runtime world: many fire instances, each playing a package with a
+// keyframed look, updated together by one update(dt) (DESIGN.md sections 2-3).
+//
+// Data-oriented: per-instance state lives in structure-of-arrays (dense, one
+// entry per live instance, swap-removed on destroy); update() runs systems
+// that are flat loops over them, in this order:
+//   1. playback     advance time, pick the frame (see PlaybackSettings)
+//   2. keyframes    interpolate the look at the frame position (look_track.h)
+//   3. residency    make every frame in use resident in the frame cache
+//   4. coefficients z = S V^T w per instance (rank x 3)
+//   5. image        optional CPU image = U z, alpha from the optical depths
+//   6. lens flare   optional, from the instance's image (lens_flare.h)
+// then the frame cache is trimmed to its budget.
+//
+// Frames: an instance shows baked frames only. The continuous frame position
+// (used for the keyframed look, which animates smoothly) selects the last baked
+// frame at or below it ("hold", no blending of two frames' images), so frame f
+// is shown for positions in [f, next baked frame).
+//
+// Shared factors and memory: all instances of one package in a world share one
+// cache entry per frame (the decompressed factors, plus U decoded to float
+// once, only when some instance asks for a CPU image). After each update, if
+// the cache exceeds WorldSettings::frame_cache_bytes, the least recently used
+// frames not used by this update are evicted; frames used by the current
+// update are never evicted, so the bound can be exceeded by exactly the frames
+// in use at once. Different worlds keep separate caches.
+//
+// Allocation: update() allocates only when a frame is loaded into the cache
+// (I/O, decompression); in steady state it is allocation-free. Creating
+// instances and setting looks, keyframes and outputs allocate.
+//
+// Thread-safety: a World is not internally synchronised; use each world from
+// one thread at a time. Packages may be shared between worlds on different
+// threads.
+//
+// Errors: InvalidHandle for a stale or invalid handle, LookError for a look
+// that does not fit the package, std::invalid_argument for other bad input.
+// A call that throws leaves the world unchanged.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "look/look.h"
+#include "world/host_memory.h"
+#include "world/lens_flare.h"
+#include "world/look_track.h"
+#include "world/package.h"
+
+namespace firelook::runtime {
+
+class InvalidHandle : public std::invalid_argument {
+  public:
+    using std::invalid_argument::invalid_argument;
+};
+
+// 0 is never a valid handle. Low 20 bits: slot + 1; high 12 bits: generation
+// (1..4095, bumped when a slot is freed), so a destroyed instance's handle is
+// detected until its slot has been reused 4095 times.
+using InstanceHandle = uint32_t;
+
+struct WorldSettings {
+    size_t frame_cache_bytes = size_t(512) << 20;
+    MemoryHooks memory;  // optional host allocator (host_memory.h)
+};
+
+struct PlaybackSettings {
+    static constexpr int kPackageFirst = std::numeric_limits<int>::min();
+    static constexpr int kPackageLast = std::numeric_limits<int>::max();
+    double time = 0.0;  // seconds since the start of the range
+    double rate = 24.0;  // frames per second (0 holds; negative plays backwards)
+    bool loop = true;    // wrap at the end of the range (else clamp at its ends)
+    bool playing = true;  // false: update() does not advance time
+    int first_frame = kPackageFirst;  // range in package frame numbers, clamped to the baked frames
+    int last_frame = kPackageLast;
+};
+
+struct OutputSettings {
+    bool image = false;       // CPU image (premultiplied RGBA float, width x height, top row first)
+    bool lens_flare = false;  // needs image; a separate RGBA image with A = 0, added by the host
+    LensFlareSettings flare;
+};
+
+// What update() produced for one instance; pointers stay valid until the next
+// call that changes the world (update, create, destroy, set*).
+struct InstanceState {
+    int frame = 0;                // baked frame shown
+    double frame_position = 0.0;  // continuous position (keyframes are evaluated here)
+    double time = 0.0;            // playback time after wrapping
+    int rank = 0;
+    const float* z = nullptr;     // rank x 3, z[k * 3 + channel]
+    ExtinctionParams extinction;  // the interpolated look's (alpha needs it)
+    std::span<const Rgb> rbf;     // interpolated emission coefficients (bins)
+    std::span<const Rgb> lights;  // interpolated light irradiance
+    const float* image = nullptr;  // null unless enabled and updated
+    const float* flare = nullptr;
+    bool updated = false;         // false until the first update() after creation
+};
+
+class World {
+  public:
+    explicit World(WorldSettings settings = {});
+    ~World();
+    World(const World&) = delete;
+    World& operator=(const World&) = delete;
+
+    // A new instance showing the package's first frame with its default look,
+    // default playback and no image outputs.
+    InstanceHandle create(std::shared_ptr<const Package> package);
+    void destroy(InstanceHandle instance);
+    bool valid(InstanceHandle instance) const;
+    size_t size() const { return dense_to_slot_.size(); }
+
+    void setLook(InstanceHandle instance, const Look& look);  // one key: constant look
+    // Keys (frame number, look); sorted here; must be non-empty.
+    void setKeyframes(InstanceHandle instance, std::span<const std::pair<double, Look>> keys);
+    void setPlayback(InstanceHandle instance, const PlaybackSettings& playback);
+    void setOutputs(InstanceHandle instance, const OutputSettings& outputs);
+    const PlaybackSettings& playback(InstanceHandle instance) const;
+    const Package& package(InstanceHandle instance) const;
+
+    void update(double dt);
+    InstanceState state(InstanceHandle instance) const;
+
+    // The frame cache (for tests and statistics).
+    size_t cacheBytes() const { return cache_bytes_; }
+    size_t cachedFrames() const;
+    uint64_t frameLoads() const { return frame_loads_; }
+
+  private:
+    template <typename T>
+    using HostVector = std::vector<T, HostAllocator<T>>;
+
+    struct FrameEntry {
+        std::unique_ptr<basis::FrameFactors> factors;
+        HostVector<float> u_float;
+        uint64_t last_used = 0;
+        size_t bytes = 0;
+    };
+    struct PackageEntry {
+        std::shared_ptr<const Package> package;
+        std::vector<FrameEntry> frames;  // by slot
+        int users = 0;
+    };
+
+    int denseIndex(InstanceHandle instance) const;  // throws InvalidHandle
+    int acquirePackage(std::shared_ptr<const Package> package);
+    void releasePackage(int index);
+    void ensureStrides(const Package& package);
+    FrameEntry& residentFrame(int package_index, int slot);
+    void ensureUFloat(FrameEntry& entry);
+    void trimCache();
+
+    WorldSettings settings_;
+    // Handle pool.
+    std::vector<uint16_t> generation_;  // by slot
+    std::vector<int32_t> slot_to_dense_;  // -1 when free
+    std::vector<uint32_t> free_slots_;
+    std::vector<uint32_t> dense_to_slot_;
+    std::vector<PackageEntry> packages_;
+
+    // Components (dense). Strides grow with the packages in the world.
+    int z_stride_ = 0, bins_stride_ = 0, lights_stride_ = 0;
+    std::vector<int> package_index_;
+    std::vector<std::vector<Keyframe>> keys_;
+    std::vector<PlaybackSettings> playback_;
+    std::vector<OutputSettings> outputs_;
+    std::vector<double> frame_position_;
+    std::vector<int> frame_slot_;
+    std::vector<ExtinctionParams> extinction_;
+    std::vector<uint8_t> updated_;
+    HostVector<Rgb> rbf_;     // dense x bins_stride_
+    HostVector<Rgb> lights_;  // dense x lights_stride_
+    HostVector<float> z_;     // dense x z_stride_
+    std::vector<HostVector<float>> image_;  // empty unless enabled
+    std::vector<HostVector<float>> flare_;
+    HostVector<float> scratch_;        // 3 x max rank
+    HostVector<float> flare_scratch_;  // lens flare scratch, largest image
+
+    uint64_t update_count_ = 0;
+    size_t cache_bytes_ = 0;
+    uint64_t frame_loads_ = 0;
+};
+
+}  // namespace firelook::runtime

@@ -1,0 +1,160 @@
+// The --config bake.json (baker/bake/bake_config.h): every key applied, axis forms, and errors that
+// name the file.
+#include "bake/bake_config.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "../basis/temp_dir.h"
+
+namespace firelook::bake {
+namespace {
+
+using firelook::testing::TempDir;
+
+std::filesystem::path writeConfig(const TempDir& dir, const std::string& text) {
+    const auto path = dir / "bake.json";
+    std::ofstream(path) << text;
+    return path;
+}
+
+BakeConfig apply(const TempDir& dir, const std::string& text) {
+    BakeConfig c;
+    applyConfigFile(c, writeConfig(dir, text));
+    return c;
+}
+
+std::string errorOf(const TempDir& dir, const std::string& text) {
+    try {
+        apply(dir, text);
+    } catch (const std::runtime_error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(BakeConfig, AppliesEveryKey) {
+    TempDir dir;
+    const BakeConfig c = apply(dir, R"({
+        "format": "firelook-bake", "version": 1,
+        "frames": "2-5", "size": "32x24", "bins": 8, "t_lo": -1, "t_hi": 4, "rbf_width": 0.8,
+        "albedo": 0.5, "alpha_threshold_samples": 9, "seed": 42, "up": "z",
+        "density_grid": "smoke", "temperature_grid": "heat", "temperature_scale": 0.001,
+        "temperature_offset": -273,
+        "axes": {"temperature_threshold": [1, 2], "smoke_extinction": 3, "flame_extinction": [0.5, 1]},
+        "trace": {"cell_voxels": 2, "photons_primary": 100, "photons_per_order": 50, "max_orders": 3,
+                  "order_tolerance": 0.01, "step_voxels": 0.25},
+        "compression": {"target_relative_error": 0.01, "max_rank": 7}
+    })");
+    EXPECT_EQ(c.frames, "2-5");
+    EXPECT_EQ(c.scene.width, 32);
+    EXPECT_EQ(c.scene.height, 24);
+    EXPECT_EQ(c.bins, 8);
+    EXPECT_EQ(c.t_lo, -1.0);
+    EXPECT_EQ(c.t_hi, 4.0);
+    EXPECT_EQ(c.rbf_width, 0.8);
+    EXPECT_EQ(c.albedo, 0.5);
+    EXPECT_EQ(c.alpha_threshold_samples, 9);
+    EXPECT_EQ(c.seed, 42u);
+    EXPECT_EQ(c.scene.up, render::UpAxis::Z);
+    EXPECT_EQ(c.read.density_grid, "smoke");
+    EXPECT_EQ(c.read.temperature_grid, "heat");
+    EXPECT_EQ(c.read.temperature_scale, 0.001);
+    EXPECT_EQ(c.read.temperature_offset, -273.0);
+    EXPECT_EQ(c.axes.temperature_threshold, (std::vector<double>{1.0, 2.0}));
+    EXPECT_EQ(c.axes.smoke_extinction, (std::vector<double>{3.0}));
+    EXPECT_EQ(c.axes.flame_extinction, (std::vector<double>{0.5, 1.0}));
+    EXPECT_EQ(c.trace.cell_voxels, 2);
+    EXPECT_EQ(c.trace.photons_primary, 100);
+    EXPECT_EQ(c.trace.photons_per_order, 50);
+    EXPECT_EQ(c.trace.max_orders, 3);
+    EXPECT_EQ(c.trace.order_tolerance, 0.01);
+    EXPECT_EQ(c.trace.step_voxels, 0.25);
+    EXPECT_EQ(c.compression.target_relative_error, 0.01);
+    EXPECT_EQ(c.compression.max_rank, 7);
+}
+
+TEST(BakeConfig, AbsentKeysKeepTheDefaults) {
+    TempDir dir;
+    const BakeConfig defaults;
+    const BakeConfig c = apply(dir, R"({"bins": 4, "trace": {"max_orders": 2}})");
+    EXPECT_EQ(c.bins, 4);
+    EXPECT_EQ(c.trace.max_orders, 2);
+    EXPECT_EQ(c.trace.photons_primary, defaults.trace.photons_primary);
+    EXPECT_EQ(c.axes.smoke_extinction, defaults.axes.smoke_extinction);
+    EXPECT_EQ(c.albedo, defaults.albedo);
+    EXPECT_FALSE(c.t_lo.has_value());
+}
+
+TEST(BakeConfig, AxisForms) {
+    TempDir dir;
+    BakeConfig c = apply(dir, R"({"axes": {
+        "temperature_threshold": {"min": 1, "max": 2, "count": 5},
+        "smoke_extinction": {"min": 1, "max": 16, "count": 5, "spacing": "geometric"},
+        "flame_extinction": {"min": 0.5, "max": 0.5, "count": 1}}})");
+    ASSERT_EQ(c.axes.temperature_threshold.size(), 5u);
+    for (int i = 0; i < 5; ++i) EXPECT_DOUBLE_EQ(c.axes.temperature_threshold[i], 1.0 + 0.25 * i);
+    ASSERT_EQ(c.axes.smoke_extinction.size(), 5u);
+    // lo (hi/lo)^t: pow() rounding, a few ulps.
+    for (int i = 0; i < 5; ++i)
+        EXPECT_NEAR(c.axes.smoke_extinction[i], std::pow(2.0, i), 1e-12 * std::pow(2.0, i));
+    EXPECT_EQ(c.axes.flame_extinction, (std::vector<double>{0.5}));
+
+    c = apply(dir, R"({"axes": {"smoke_extinction": 2.5, "flame_extinction": [0.25, 1, 4]}})");
+    EXPECT_EQ(c.axes.smoke_extinction, (std::vector<double>{2.5}));
+    EXPECT_EQ(c.axes.flame_extinction, (std::vector<double>{0.25, 1.0, 4.0}));
+}
+
+TEST(BakeConfig, ErrorsNameTheFileAndTheProblem) {
+    TempDir dir;
+    const std::string file = (dir / "bake.json").string();
+    const auto expectError = [&](const std::string& text, const std::string& what) {
+        const std::string e = errorOf(dir, text);
+        EXPECT_EQ(e.rfind(file, 0), 0u) << "for " << text << ": " << e;
+        EXPECT_NE(e.find(what), std::string::npos) << "for " << text << ": " << e;
+    };
+    expectError(R"({"bins": 4, "photons": 100})", "photons");
+    expectError(R"({"trace": {"photon_count": 10}})", "photon_count");
+    expectError(R"({"axes": {"T_c": [1, 2]}})", "T_c");
+    expectError(R"({"compression": {"rank": 4}})", "rank");
+    expectError(R"({"bins": 4,)", "");
+    expectError(R"({"bins": 0})", "bins");
+    expectError(R"({"bins": "many"})", "");
+    expectError(R"({"albedo": 1.5})", "albedo");
+    expectError(R"({"size": "16by16"})", "size");
+    expectError(R"({"axes": {"smoke_extinction": [4, 2]}})", "smoke_extinction");
+    expectError(R"({"axes": {"flame_extinction": []}})", "flame_extinction");
+    expectError(R"({"axes": {"smoke_extinction": {"min": 2, "max": 1, "count": 3}}})", "axis");
+    expectError(R"({"axes": {"smoke_extinction": {"min": 0, "max": 1, "count": 3, "spacing": "geometric"}}})",
+                "geometric");
+    expectError(R"({"axes": {"smoke_extinction": {"min": 1, "max": 2}}})", "count");
+    expectError(R"({"trace": {"step_voxels": 0}})", "trace");
+
+    BakeConfig c;
+    try {
+        applyConfigFile(c, dir / "missing.json");
+        ADD_FAILURE() << "no error for a missing file";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("missing.json"), std::string::npos) << e.what();
+    }
+}
+
+TEST(BakeConfig, ConfigToJsonRecordsTheSettings) {
+    BakeConfig c;
+    c.frames = "3";
+    c.seed = 77;
+    c.axes = {{1.0}, {2.0, 3.0}, {0.5}};
+    const nlohmann::json j = nlohmann::json::parse(configToJson(c));
+    EXPECT_EQ(j.at("frames"), "3");
+    EXPECT_EQ(j.at("seed"), 77);
+    EXPECT_EQ(j.at("axes").at("smoke_extinction"), (std::vector<double>{2.0, 3.0}));
+    EXPECT_EQ(j.at("size"), "256x256");
+    EXPECT_EQ(j.at("trace").at("photons_primary"), c.trace.photons_primary);
+    EXPECT_EQ(nlohmann::json::parse(configToJson(BakeConfig())).at("frames"), "all") << "empty frames = all";
+}
+
+}  // namespace
+}  // namespace firelook::bake

@@ -1,0 +1,157 @@
+// bakePackage (baker/bake/bake_pipeline.h) on the bundled sample, kept tiny: one frame, 16x16,
+// few photons, a 2x1x1 parameter grid.
+#include "bake/bake_pipeline.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+
+#include "../basis/temp_dir.h"
+#include "basis/basis_package.h"
+#include "look/look.h"
+#include "vdb/vdb_sequence.h"
+
+namespace firelook::bake {
+namespace {
+
+using firelook::testing::TempDir;
+
+BakeConfig tinyConfig(uint64_t seed = 1) {
+    BakeConfig c;
+    c.frames = "1";
+    c.scene.width = 16;
+    c.scene.height = 16;
+    c.scene.up = render::UpAxis::Z;
+    c.bins = 4;
+    // Given explicitly, so the bake does not load all 12 frames to find the range.
+    c.t_lo = 0.0;
+    c.t_hi = 3.0;
+    c.axes = {{1.0, 2.0}, {4.0}, {1.5}};
+    c.alpha_threshold_samples = 3;
+    c.trace.photons_primary = 2000;
+    c.trace.photons_per_order = 1000;
+    c.trace.max_orders = 3;
+    c.trace.cell_voxels = 8;
+    c.seed = seed;
+    return c;
+}
+
+std::string fileBytes(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+}
+
+TEST(BakePipeline, BakesAReadablePackage) {
+    TempDir dir;
+    const auto out = dir / "a.firelook";
+    const BakeReport report = bakePackage(FIRELOOK_SAMPLE_DIR, out, tinyConfig(), "test");
+    ASSERT_EQ(report.frames.size(), 1u);
+    EXPECT_EQ(report.frames[0].frame, 1);
+    EXPECT_GT(report.frames[0].rank, 0);
+    EXPECT_EQ(report.package_bytes, std::filesystem::file_size(out));
+    const basis::BasisPackage package = basis::BasisPackage::open(out);
+    const basis::BakeDescription& d = package.description();
+    EXPECT_EQ(d.width, 16);
+    EXPECT_EQ(d.height, 16);
+    EXPECT_EQ(d.bins.count, 4);
+    EXPECT_EQ(d.alpha_thresholds.size(), 3u);
+    EXPECT_EQ(d.light_directions.size(), 1u) << "the default key light";
+    ASSERT_EQ(d.frames.size(), 1u);
+    EXPECT_EQ(d.frames[0].rank, report.frames[0].rank);
+    const basis::FrameFactors f = package.loadFrame(1);
+    EXPECT_EQ(f.columns, 2 * (4 + 1));
+    const nlohmann::json meta = nlohmann::json::parse(package.metadataJson());
+    EXPECT_EQ(meta.at("provenance").at("sources").size(), 1u);
+    EXPECT_EQ(meta.at("camera").at("source"), "default");
+    EXPECT_EQ(dir.entries(), std::vector<std::string>{"a.firelook"});
+}
+
+TEST(BakePipeline, SameSeedSameBytesOtherSeedOtherBasis) {
+    TempDir dir;
+    bakePackage(FIRELOOK_SAMPLE_DIR, dir / "a.firelook", tinyConfig(1), "test");
+    bakePackage(FIRELOOK_SAMPLE_DIR, dir / "b.firelook", tinyConfig(1), "test");
+    bakePackage(FIRELOOK_SAMPLE_DIR, dir / "c.firelook", tinyConfig(2), "test");
+    const std::string a = fileBytes(dir / "a.firelook");
+    ASSERT_FALSE(a.empty());
+    EXPECT_TRUE(a == fileBytes(dir / "b.firelook")) << "same seed, different bytes";
+    EXPECT_FALSE(a == fileBytes(dir / "c.firelook"));
+    // Not only the recorded seed: the photons, hence S V^T, differ too.
+    const basis::FrameFactors fa = basis::BasisPackage::open(dir / "a.firelook").loadFrame(1);
+    const basis::FrameFactors fc = basis::BasisPackage::open(dir / "c.firelook").loadFrame(1);
+    EXPECT_NE(fa.svt, fc.svt);
+    // Camera rays are deterministic: the exact optical depths do not depend on the seed.
+    EXPECT_EQ(fa.depth_density, fc.depth_density);
+}
+
+TEST(BakePipeline, CancelledBakeLeavesNothingBehind) {
+    for (int cancel_at : {1, 3}) {
+        TempDir dir;
+        int calls = 0;
+        const auto progress = [&](double, const std::string&) { return ++calls < cancel_at; };
+        EXPECT_THROW(bakePackage(FIRELOOK_SAMPLE_DIR, dir / "a.firelook", tinyConfig(), "test", progress),
+                     std::runtime_error);
+        EXPECT_GE(calls, cancel_at);
+        EXPECT_FALSE(std::filesystem::exists(dir / "a.firelook"));
+        EXPECT_TRUE(dir.entries().empty())
+            << "left behind: " << (dir.entries().empty() ? "" : dir.entries()[0]);
+    }
+}
+
+TEST(BakePipeline, CancelledBakeKeepsAnExistingPackage) {
+    TempDir dir;
+    const auto out = dir / "a.firelook";
+    bakePackage(FIRELOOK_SAMPLE_DIR, out, tinyConfig(), "test");
+    const std::string before = fileBytes(out);
+    const auto cancel = [](double fraction, const std::string&) { return fraction < 0.5; };
+    EXPECT_THROW(bakePackage(FIRELOOK_SAMPLE_DIR, out, tinyConfig(2), "test", cancel), std::runtime_error);
+    EXPECT_EQ(fileBytes(out), before);
+    EXPECT_EQ(dir.entries(), std::vector<std::string>{"a.firelook"});
+}
+
+TEST(BakePipeline, ProgressIsMonotonicAndEndsAtOne) {
+    TempDir dir;
+    std::vector<double> fractions;
+    bakePackage(FIRELOOK_SAMPLE_DIR, dir / "a.firelook", tinyConfig(), "test",
+                [&](double f, const std::string& detail) {
+                    fractions.push_back(f);
+                    EXPECT_NE(detail.find("frame 1"), std::string::npos) << detail;
+                    return true;
+                });
+    ASSERT_FALSE(fractions.empty());
+    for (size_t i = 1; i < fractions.size(); ++i) EXPECT_GE(fractions[i], fractions[i - 1]);
+    EXPECT_EQ(fractions.back(), 1.0);
+}
+
+TEST(BakePipeline, BadInputsFailWithoutOutput) {
+    TempDir dir;
+    BakeConfig frames = tinyConfig();
+    frames.frames = "40-50";
+    EXPECT_THROW(bakePackage(FIRELOOK_SAMPLE_DIR, dir / "a.firelook", frames, "test"), std::invalid_argument);
+    EXPECT_THROW(bakePackage(FIRELOOK_SAMPLE_DIR, dir / "missing" / "a.firelook", tinyConfig(), "test"),
+                 std::exception);
+    EXPECT_THROW(bakePackage((dir / "no-such-sequence").string(), dir / "a.firelook", tinyConfig(), "test"),
+                 std::exception);
+    EXPECT_TRUE(dir.entries().empty());
+}
+
+TEST(BakePipeline, DescribeBakeClampsTheDefaultLookIntoTheAxes) {
+    const vdb::VdbSequence sequence = vdb::VdbSequence::open(FIRELOOK_SAMPLE_DIR);
+    BakeConfig config = tinyConfig();
+    config.axes = {{2.5}, {10.0, 20.0}, {0.1}};
+    const SceneSetup scene = resolveScene(sequence, config.scene);
+    const basis::BakeDescription d = describeBake(sequence, config, scene);
+    ASSERT_EQ(d.alpha_thresholds.size(), 1u) << "one T_c needs one alpha threshold";
+    EXPECT_EQ(d.alpha_thresholds[0], 2.5);
+    const Look look = parseLook(d.default_look_json, "default");
+    EXPECT_EQ(look.temperature_threshold, 2.5);
+    EXPECT_GE(look.smoke_extinction, 10.0);
+    EXPECT_LE(look.smoke_extinction, 20.0);
+    EXPECT_EQ(look.flame_extinction, 0.1);
+    EXPECT_EQ(look.albedo, config.albedo);
+    EXPECT_EQ(look.light_irradiance.size(), d.light_directions.size());
+}
+
+}  // namespace
+}  // namespace firelook::bake

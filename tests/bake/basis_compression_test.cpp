@@ -1,0 +1,155 @@
+// SVD compression of a frame's basis matrix (baker/bake/basis_compression.h), on matrices with
+// known singular values: B = sum_k s_k u_k v_k^T with orthonormal DCT-II vectors u_k and v_k.
+#include "bake/basis_compression.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "basis/frame_factors.h"
+
+namespace firelook::bake {
+namespace {
+
+// The k-th orthonormal DCT-II vector of length n.
+double dct(int k, int i, int n) {
+    const double scale = std::sqrt((k == 0 ? 1.0 : 2.0) / n);
+    return scale * std::cos(std::numbers::pi * (i + 0.5) * k / n);
+}
+
+// 8x6 pixels, 6 columns, singular values `s` (descending).
+FrameBasis knownBasis(const std::vector<double>& s, int columns = 6) {
+    FrameBasis b;
+    b.width = 8;
+    b.height = 6;
+    b.columns = columns;
+    const int pixels = b.width * b.height;
+    b.matrix.assign(static_cast<size_t>(pixels) * columns, 0.0f);
+    for (int p = 0; p < pixels; ++p)
+        for (int j = 0; j < columns; ++j) {
+            double v = 0.0;
+            for (size_t k = 0; k < s.size(); ++k)
+                v += s[k] * dct(int(k), p, pixels) * dct(int(k), j, columns);
+            b.matrix[static_cast<size_t>(p) * columns + j] = static_cast<float>(v);
+        }
+    b.depth_density.assign(pixels, 0.5f);
+    b.depth_sigmoid.assign(pixels, -0.25f);
+    return b;
+}
+
+// ||U S V^T - B||_F / ||B||_F with U decoded from half precision, in double.
+double reconstructionError(const FrameBasis& b, const CompressedFrame& c) {
+    const std::vector<float> u = basis::decodeU(c.factors);
+    const int pixels = b.width * b.height, rank = c.factors.rank;
+    double error = 0.0, norm = 0.0;
+    for (int p = 0; p < pixels; ++p)
+        for (int j = 0; j < b.columns; ++j) {
+            double v = 0.0;
+            for (int k = 0; k < rank; ++k)
+                v += double(u[static_cast<size_t>(p) * rank + k]) *
+                     c.factors.svt[static_cast<size_t>(j) * rank + k];
+            const double want = b.matrix[static_cast<size_t>(p) * b.columns + j];
+            error += (v - want) * (v - want);
+            norm += want * want;
+        }
+    return std::sqrt(error / norm);
+}
+
+double tailError(const std::vector<double>& s, int rank) {
+    double dropped = 0.0, total = 0.0;
+    for (size_t k = 0; k < s.size(); ++k) {
+        total += s[k] * s[k];
+        if (int(k) >= rank) dropped += s[k] * s[k];
+    }
+    return std::sqrt(dropped / total);
+}
+
+const std::vector<double> kSpectrum = {10.0, 3.0, 1.0, 0.3, 0.1, 0.03};
+
+// Half precision stores U with a relative rounding of at most 2^-11 = 4.9e-4 per element, and the
+// error it adds to B is ||(U_half - U) S||_F <= 4.9e-4 ||B||_F; the Gram matrix is accumulated in
+// double but B and U are float (6e-8). 1e-3 is twice the half-precision bound.
+constexpr double kHalfPrecisionTolerance = 1e-3;
+
+TEST(BasisCompression, FullRankReproducesTheMatrix) {
+    const FrameBasis b = knownBasis(kSpectrum);
+    const CompressedFrame c = compressFrameBasis(b, 5, {0.0, 6});
+    EXPECT_EQ(c.factors.frame, 5);
+    EXPECT_EQ(c.factors.pixels, 48);
+    EXPECT_EQ(c.factors.columns, 6);
+    ASSERT_EQ(c.factors.rank, 6);
+    EXPECT_EQ(c.factors.u_half.size(), 48u * 6);
+    EXPECT_EQ(c.factors.svt.size(), 6u * 6);
+    EXPECT_EQ(c.factors.depth_density, b.depth_density);
+    EXPECT_EQ(c.factors.depth_sigmoid, b.depth_sigmoid);
+    const double error = reconstructionError(b, c);
+    EXPECT_LT(error, kHalfPrecisionTolerance);
+    // The reported half-precision error is what the reconstruction shows (float rounding apart).
+    EXPECT_NEAR(error, c.quantisation_error, 1e-5);
+    // The Gram matrix squares the condition number: the smallest singular value (3e-3 of the
+    // largest) is resolved to ~1e-16 * 1e4 relative in double, float B adds ~1e-7 * s_max.
+    ASSERT_EQ(c.singular_values.size(), 6u);
+    for (size_t k = 0; k < kSpectrum.size(); ++k)
+        EXPECT_NEAR(c.singular_values[k], kSpectrum[k], 1e-5 * kSpectrum[0]) << k;
+}
+
+TEST(BasisCompression, TruncationErrorIsTheActualFrobeniusError) {
+    const FrameBasis b = knownBasis(kSpectrum);
+    for (int max_rank = 1; max_rank <= 6; ++max_rank) {
+        const CompressedFrame c = compressFrameBasis(b, 1, {0.0, max_rank});
+        ASSERT_EQ(c.factors.rank, max_rank);
+        EXPECT_NEAR(c.truncation_error, tailError(kSpectrum, max_rank), 1e-5) << "rank " << max_rank;
+        // Truncation and half rounding are orthogonal to first order, so the actual error is
+        // sqrt(trunc^2 + quant^2) up to the cross term, which is below quant.
+        const double actual = reconstructionError(b, c);
+        EXPECT_NEAR(actual, std::hypot(c.truncation_error, c.quantisation_error), c.quantisation_error + 1e-5)
+            << "rank " << max_rank;
+    }
+}
+
+TEST(BasisCompression, RankIsTheSmallestMeetingTheTarget) {
+    const FrameBasis b = knownBasis(kSpectrum);
+    for (double target : {0.5, 0.1, 0.05, 0.01, 0.003, 1e-3, 1e-4}) {
+        int expected = 0;
+        while (expected < 6 && tailError(kSpectrum, expected) > target) ++expected;
+        const CompressedFrame c = compressFrameBasis(b, 1, {target, 128});
+        EXPECT_EQ(c.factors.rank, expected) << "target " << target;
+        EXPECT_LE(c.truncation_error, target + 1e-7) << "target " << target;
+        if (c.factors.rank > 0) {
+            EXPECT_GT(tailError(kSpectrum, c.factors.rank - 1), target) << "one less would do: " << target;
+        }
+    }
+    // max_rank caps the rank even when the target asks for more.
+    EXPECT_EQ(compressFrameBasis(b, 1, {1e-6, 2}).factors.rank, 2);
+}
+
+TEST(BasisCompression, ExactlyLowRankMatrixNeedsOnlyItsRank) {
+    const FrameBasis b = knownBasis({5.0, 2.0, 0.0, 0.0, 0.0, 0.0});
+    const CompressedFrame c = compressFrameBasis(b, 1, {1e-4, 6});
+    EXPECT_EQ(c.factors.rank, 2);
+    EXPECT_LT(reconstructionError(b, c), kHalfPrecisionTolerance);
+}
+
+TEST(BasisCompression, EmptyMatrixIsRankZero) {
+    FrameBasis b = knownBasis({0.0});
+    const CompressedFrame c = compressFrameBasis(b, 9, {0.0, 6});
+    EXPECT_EQ(c.factors.rank, 0);
+    EXPECT_TRUE(c.factors.u_half.empty());
+    EXPECT_TRUE(c.factors.svt.empty());
+    EXPECT_EQ(c.truncation_error, 0.0);
+    EXPECT_EQ(c.quantisation_error, 0.0);
+    EXPECT_EQ(c.factors.depth_density, b.depth_density);
+}
+
+TEST(BasisCompression, SameInputSameFactors) {
+    const FrameBasis b = knownBasis(kSpectrum);
+    const CompressedFrame c1 = compressFrameBasis(b, 1, {0.01, 6});
+    const CompressedFrame c2 = compressFrameBasis(b, 1, {0.01, 6});
+    EXPECT_EQ(c1.factors.u_half, c2.factors.u_half);
+    EXPECT_EQ(c1.factors.svt, c2.factors.svt);
+}
+
+}  // namespace
+}  // namespace firelook::bake

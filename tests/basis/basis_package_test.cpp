@@ -1,0 +1,209 @@
+// The baked basis in a .firelook package (runtime/basis/basis_package.h): factors written with
+// PackageWriter + writeFrameFactors + makeMetadata come back bit-exact; inconsistent packages fail
+// with errors that name the file.
+#include "basis/basis_package.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <glm/gtc/packing.hpp>
+#include <nlohmann/json.hpp>
+
+#include "package/error.h"
+#include "temp_dir.h"
+
+namespace firelook::basis {
+namespace {
+
+using firelook::testing::TempDir;
+
+BakeDescription description() {
+    BakeDescription d;
+    d.bins = {0.0, 3.0, 2};
+    d.albedo = 0.7;
+    d.axes = {{1.0, 2.0}, {4.0}, {1.5}};
+    d.alpha_thresholds = {1.0, 1.5, 2.0};
+    d.light_directions = {{0.0, 0.0, -1.0}};
+    d.width = 5;
+    d.height = 3;
+    return d;
+}
+
+// Factors with every value distinct (and a few awkward floats) so a misplaced byte shows.
+FrameFactors factors(const BakeDescription& d, int frame, int rank) {
+    FrameFactors f;
+    f.frame = frame;
+    f.pixels = d.pixelCount();
+    f.columns = d.columnCount();
+    f.rank = rank;
+    for (int i = 0; i < f.pixels * rank; ++i)
+        f.u_half.push_back(static_cast<uint16_t>(0x3000 + 37 * i + frame));
+    for (int i = 0; i < f.columns * rank; ++i) f.svt.push_back(0.5f * i - 3.25f + frame);
+    if (!f.svt.empty()) f.svt[0] = -0.0f;
+    if (f.svt.size() > 1) f.svt[1] = 1e-42f;  // a denormal
+    for (int i = 0; i < f.pixels; ++i) f.depth_density.push_back(0.125f * i + frame);
+    for (size_t i = 0; i < f.pixels * d.alpha_thresholds.size(); ++i) f.depth_sigmoid.push_back(-0.0625f * i);
+    return f;
+}
+
+template <typename T>
+bool sameBytes(const std::vector<T>& a, const std::vector<T>& b) {
+    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+void writePackage(const std::filesystem::path& file, BakeDescription d,
+                  const std::vector<FrameFactors>& frames,
+                  const std::string& extra = R"({"provenance": {"tool": "basis_package_test"}})") {
+    package::PackageWriter writer(file);
+    for (const FrameFactors& f : frames) {
+        writeFrameFactors(writer, f);
+        if (!d.findFrame(f.frame)) d.frames.push_back({f.frame, f.rank});
+    }
+    writer.addMetadata(makeMetadata(d, extra));
+    writer.commit();
+}
+
+std::string errorOf(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const std::exception& e) {
+        return e.what();
+    }
+    return "";
+}
+
+// U and S V^T bit-exact; the optical depths to half precision.
+TEST(BasisPackage, FactorsRoundTrip) {
+    TempDir dir;
+    const BakeDescription d = description();
+    const std::vector<FrameFactors> frames = {factors(d, 1, 3), factors(d, 4, 1), factors(d, 7, 0)};
+    writePackage(dir / "a.firelook", d, frames);
+
+    const BasisPackage package = BasisPackage::open(dir / "a.firelook");
+    EXPECT_EQ(package.file(), dir / "a.firelook");
+    EXPECT_EQ(package.description().width, d.width);
+    EXPECT_EQ(package.description().axes.temperature_threshold, d.axes.temperature_threshold);
+    EXPECT_EQ(package.description().frames.size(), 3u);
+    const nlohmann::json meta = nlohmann::json::parse(package.metadataJson());
+    EXPECT_EQ(meta.at("format"), "firelook-basis");
+    EXPECT_EQ(meta.at("provenance").at("tool"), "basis_package_test");
+    for (const FrameFactors& written : frames) {
+        const FrameFactors read = package.loadFrame(written.frame);
+        EXPECT_EQ(read.frame, written.frame);
+        EXPECT_EQ(read.pixels, written.pixels);
+        EXPECT_EQ(read.columns, written.columns);
+        EXPECT_EQ(read.rank, written.rank);
+        EXPECT_TRUE(sameBytes(read.u_half, written.u_half)) << "frame " << written.frame;
+        EXPECT_TRUE(sameBytes(read.svt, written.svt)) << "frame " << written.frame;
+        // Optical depths are stored as IEEE half (docs/package-format.md): O_b comes back as its half
+        // rounding exactly; O_a is stored as F = (O_a + O_b) / 2 and read as 2 F - O_b, so it is off
+        // by at most the half rounding of 2 F (2^-11 relative) plus that of O_b.
+        ASSERT_EQ(read.depth_density.size(), written.depth_density.size());
+        for (size_t i = 0; i < written.depth_density.size(); ++i)
+            EXPECT_EQ(read.depth_density[i],
+                      glm::unpackHalf1x16(glm::packHalf1x16(written.depth_density[i])));
+        ASSERT_EQ(read.depth_sigmoid.size(), written.depth_sigmoid.size());
+        for (size_t i = 0; i < written.depth_sigmoid.size(); ++i) {
+            const float o_a = written.depth_sigmoid[i], o_b = written.depth_density[i % written.pixels];
+            EXPECT_NEAR(read.depth_sigmoid[i], o_a, 0x1p-11 * (std::abs(o_a + o_b) + std::abs(o_b)) + 1e-7)
+                << "frame " << written.frame << " element " << i;
+        }
+    }
+}
+
+TEST(BasisPackage, MissingFrameNamesTheFile) {
+    TempDir dir;
+    const BakeDescription d = description();
+    writePackage(dir / "a.firelook", d, {factors(d, 1, 2)});
+    const BasisPackage package = BasisPackage::open(dir / "a.firelook");
+    const std::string e = errorOf([&] { package.loadFrame(2); });
+    EXPECT_NE(e.find((dir / "a.firelook").string()), std::string::npos) << e;
+    EXPECT_NE(e.find("frame 2"), std::string::npos) << e;
+}
+
+TEST(BasisPackage, WrongSectionSizeNamesTheFileAndSection) {
+    TempDir dir;
+    BakeDescription d = description();
+    d.frames = {{1, 3}};  // the description claims rank 3, the factors hold rank 2
+    writePackage(dir / "a.firelook", d, {factors(d, 1, 2)});
+    const BasisPackage package = BasisPackage::open(dir / "a.firelook");
+    const std::string e = errorOf([&] { package.loadFrame(1); });
+    EXPECT_NE(e.find((dir / "a.firelook").string()), std::string::npos) << e;
+    EXPECT_NE(e.find("UFAC"), std::string::npos) << e;
+
+    // Depth maps for fewer alpha thresholds than the description has.
+    BakeDescription fewer = description();
+    FrameFactors f = factors(fewer, 1, 2);
+    f.depth_sigmoid.resize(f.depth_sigmoid.size() - 1);
+    writePackage(dir / "b.firelook", fewer, {f});
+    const std::string e2 = errorOf([&] { BasisPackage::open(dir / "b.firelook").loadFrame(1); });
+    EXPECT_NE(e2.find((dir / "b.firelook").string()), std::string::npos) << e2;
+    EXPECT_NE(e2.find("ODEP"), std::string::npos) << e2;
+}
+
+TEST(BasisPackage, MissingSectionNamesTheFileAndSection) {
+    TempDir dir;
+    BakeDescription d = description();
+    d.frames = {{1, 2}};
+    {
+        package::PackageWriter writer(dir / "a.firelook");
+        const FrameFactors f = factors(d, 1, 2);
+        writer.addSection(kSectionU, 1, std::as_bytes(std::span<const uint16_t>(f.u_half)));
+        writer.addMetadata(makeMetadata(d, ""));
+        writer.commit();
+    }
+    const std::string e = errorOf([&] { BasisPackage::open(dir / "a.firelook").loadFrame(1); });
+    EXPECT_NE(e.find((dir / "a.firelook").string()), std::string::npos) << e;
+    EXPECT_NE(e.find("SVTF"), std::string::npos) << e;
+}
+
+TEST(BasisPackage, BadMetadataNamesTheFile) {
+    TempDir dir;
+    const auto path = dir / "a.firelook";
+    {
+        package::PackageWriter writer(path);
+        writer.addSection(kSectionU, 1, {});
+        writer.commit();
+    }
+    std::string e = errorOf([&] { BasisPackage::open(path); });
+    EXPECT_NE(e.find(path.string()), std::string::npos) << e;
+    EXPECT_NE(e.find("metadata"), std::string::npos) << e;
+
+    {
+        package::PackageWriter writer(path);
+        writer.addMetadata(R"({"format": "something-else", "bake": {}})");
+        writer.commit();
+    }
+    e = errorOf([&] { BasisPackage::open(path); });
+    EXPECT_NE(e.find(path.string()), std::string::npos) << e;
+    EXPECT_NE(e.find("firelook-basis"), std::string::npos) << e;
+
+    {
+        package::PackageWriter writer(path);
+        BakeDescription d = description();
+        d.width = 0;
+        writer.addMetadata(makeMetadata(d, ""));
+        writer.commit();
+    }
+    e = errorOf([&] { BasisPackage::open(path); });
+    EXPECT_NE(e.find(path.string()), std::string::npos) << e;
+
+    e = errorOf([&] { BasisPackage::open(dir / "missing.firelook"); });
+    EXPECT_NE(e.find("missing.firelook"), std::string::npos) << e;
+}
+
+TEST(BasisPackage, MetadataExtraMembersSitBesideBake) {
+    const std::string meta = makeMetadata(description(), R"({"errors": [1, 2], "camera": {"source": "x"}})");
+    const nlohmann::json doc = nlohmann::json::parse(meta);
+    EXPECT_EQ(doc.at("format"), "firelook-basis");
+    EXPECT_EQ(doc.at("version"), 1);
+    EXPECT_TRUE(doc.at("bake").is_object());
+    EXPECT_EQ(doc.at("errors").size(), 2u);
+    EXPECT_EQ(doc.at("camera").at("source"), "x");
+    EXPECT_NO_THROW(parseBakeDescription(doc.at("bake").dump(), "meta"));
+}
+
+}  // namespace
+}  // namespace firelook::basis

@@ -1,0 +1,76 @@
+/* A plain-C translation unit that includes the public header (compiled as C99 with -Wall -Wextra
+   -Werror -pedantic) and drives a whole cycle through the API. Called from plugin_api_test.cpp. */
+#include "firelook/firelook.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#define CHECK(call)                                                                          \
+    do {                                                                                     \
+        fl_result r_ = (call);                                                               \
+        if (r_ != FL_OK) {                                                                   \
+            fprintf(stderr, "%s: %s (%s)\n", #call, fl_result_string(r_), fl_last_error()); \
+            return 1;                                                                        \
+        }                                                                                    \
+    } while (0)
+
+int firelook_c_smoke(const char* package_path);
+
+int firelook_c_smoke(const char* package_path) {
+    fl_package package = {0};
+    fl_package_info info = fl_package_info_defaults();
+    fl_world world = {0};
+    fl_world_desc world_desc = fl_world_desc_defaults();
+    fl_instance_desc instance_desc = fl_instance_desc_defaults();
+    fl_instance instance = {0};
+    fl_outputs_desc outputs = fl_outputs_desc_defaults();
+    fl_playback_desc playback = fl_playback_desc_defaults();
+    fl_instance_state state = fl_instance_state_defaults();
+    fl_look look = {0};
+    fl_keyframe keys[2];
+    float* image;
+    float z[3 * 256];
+    int32_t rank = 0;
+    size_t floats, i;
+
+    CHECK(fl_package_load(package_path, &package));
+    CHECK(fl_package_get_info(package, &info));
+    CHECK(fl_world_create(&world_desc, &world));
+    instance_desc.package = package;
+    CHECK(fl_instance_create(world, &instance_desc, &instance));
+    CHECK(fl_package_default_look(package, &look));
+    keys[0].frame = info.first_frame;
+    keys[0].look = look;
+    keys[0].reserved = 0;
+    keys[1] = keys[0];
+    keys[1].frame = info.last_frame;
+    CHECK(fl_instance_set_keyframes(world, instance, keys, 2));
+    outputs.image = 1;
+    outputs.lens_flare = 1;
+    CHECK(fl_instance_set_outputs(world, instance, &outputs));
+    playback.rate = 12.0;
+    CHECK(fl_instance_set_playback(world, instance, &playback));
+    CHECK(fl_world_update(world, 1.0 / 60.0));
+    CHECK(fl_instance_get_state(world, instance, &state));
+    if (!state.updated) return 2;
+    CHECK(fl_instance_get_coefficients(world, instance, z, sizeof z / sizeof z[0], &rank));
+    if (rank != state.rank) return 3;
+    floats = (size_t)info.width * (size_t)info.height * 4;
+    image = (float*)malloc(floats * sizeof(float));
+    if (!image) return 4;
+    CHECK(fl_instance_get_image(world, instance, image, floats));
+    for (i = 0; i < floats; ++i)
+        if (!(image[i] >= 0.0f) || !isfinite(image[i])) {
+            free(image);
+            return 5;
+        }
+    CHECK(fl_instance_get_flare(world, instance, image, floats));
+    free(image);
+    CHECK(fl_instance_destroy(world, instance));
+    if (fl_instance_destroy(world, instance) != FL_ERROR_INVALID_HANDLE) return 6;
+    CHECK(fl_look_release(look));
+    CHECK(fl_world_destroy(world));
+    CHECK(fl_package_release(package));
+    return 0;
+}

@@ -1,0 +1,372 @@
+// The C plugin API (plugin_api/include/firelook/firelook.h) through the shared library: version and
+// struct-size checks, stale/invalid handles, error codes and messages, images equal to the runtime's
+// renderLookImage (tolerance: 1e-5 of the peak radiance + 1e-5 relative, as in tests/world), the GPU
+// layouts, host allocator and log callbacks, dlopen, and the plain-C translation unit.
+#include "firelook/firelook.h"
+
+#include <dlfcn.h>
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <glm/gtc/packing.hpp>
+#include <string>
+#include <vector>
+
+#include "../basis/temp_dir.h"
+#include "basis/look_renderer.h"
+#include "synthetic_package.h"
+
+extern "C" int firelook_c_smoke(const char* package_path);
+
+namespace {
+
+using firelook::testing::TempDir;
+
+std::atomic<long> g_allocs{0}, g_frees{0}, g_logs{0};
+void* countingAlloc(size_t size, void*) {
+    ++g_allocs;
+    return std::aligned_alloc(16, (size + 15) / 16 * 16);
+}
+void countingFree(void* p, void*) {
+    if (p) ++g_frees;
+    std::free(p);
+}
+std::string g_last_log;
+void logger(int32_t level, const char* message, void*) {
+    ++g_logs;
+    if (level >= FL_LOG_ERROR) g_last_log = message;
+}
+
+class PluginApi : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        fl_init_desc desc = fl_init_desc_defaults();
+        desc.allocator = {countingAlloc, countingFree, nullptr};
+        desc.log = logger;
+        ASSERT_EQ(fl_init(&desc), FL_OK) << fl_last_error();
+        firelook::testing::SyntheticShape shape;
+        shape.frames = {3, 4, 5};
+        path_ = (dir_ / "p.firelook").string();
+        firelook::testing::writeSyntheticPackage(path_, shape);
+    }
+    void TearDown() override { EXPECT_EQ(fl_shutdown(), FL_OK); }
+
+    fl_package load() {
+        fl_package p{};
+        EXPECT_EQ(fl_package_load(path_.c_str(), &p), FL_OK) << fl_last_error();
+        return p;
+    }
+
+    TempDir dir_;
+    std::string path_;
+};
+
+const char* kLookJson = R"({
+  "format": "firelook-look", "version": 1,
+  "temperature_threshold": 1.45, "smoke_extinction": 5.0, "flame_extinction": 1.2, "albedo": 0.7,
+  "emission": { "stops": [[1.3, 0,0,0], [1.7, 2.0,0.6,0.08], [2.3, 8.0,4.0,0.9], [3.0, 14.0,11.0,6.0]] },
+  "light_irradiance": [[2.5, 2.4, 2.25]]
+})";
+
+TEST(PluginApiInit, VersionAndStructSizesAreChecked) {
+    EXPECT_EQ(fl_version(), static_cast<uint32_t>(FIRELOOK_HEADER_VERSION));
+    fl_package p{};
+    EXPECT_EQ(fl_package_load("x", &p), FL_ERROR_NOT_INITIALIZED);
+    EXPECT_EQ(fl_init(nullptr), FL_ERROR_INVALID_ARGUMENT);
+    fl_init_desc desc = fl_init_desc_defaults();
+    desc.header_version = FIRELOOK_HEADER_VERSION + 10000;  // another major
+    EXPECT_EQ(fl_init(&desc), FL_ERROR_VERSION_MISMATCH);
+    EXPECT_NE(std::string(fl_last_error()).find("header version"), std::string::npos);
+    desc = fl_init_desc_defaults();
+    desc.header_version = FIRELOOK_HEADER_VERSION + 100;  // a newer minor
+    EXPECT_EQ(fl_init(&desc), FL_ERROR_VERSION_MISMATCH);
+    desc = fl_init_desc_defaults();
+    desc.sizeof_outputs_desc -= 4;
+    EXPECT_EQ(fl_init(&desc), FL_ERROR_VERSION_MISMATCH);
+    EXPECT_NE(std::string(fl_last_error()).find("fl_outputs_desc"), std::string::npos);
+    desc = fl_init_desc_defaults();
+    desc.struct_size = 12;
+    EXPECT_EQ(fl_init(&desc), FL_ERROR_STRUCT_SIZE);
+    desc = fl_init_desc_defaults();
+    desc.allocator.alloc = countingAlloc;  // free missing
+    EXPECT_EQ(fl_init(&desc), FL_ERROR_INVALID_ARGUMENT);
+    desc = fl_init_desc_defaults();
+    ASSERT_EQ(fl_init(&desc), FL_OK);
+    EXPECT_EQ(fl_init(&desc), FL_ERROR_ALREADY_INITIALIZED);
+    EXPECT_EQ(fl_shutdown(), FL_OK);
+    EXPECT_EQ(fl_shutdown(), FL_ERROR_NOT_INITIALIZED);
+}
+
+TEST(PluginApiInit, ResultStrings) {
+    for (fl_result r = FL_ERROR_INTERNAL; r <= FL_OK; ++r) EXPECT_STRNE(fl_result_string(r), "FL_ERROR_UNKNOWN") << r;
+    EXPECT_STREQ(fl_result_string(12345), "FL_ERROR_UNKNOWN");
+    EXPECT_STREQ(fl_result_string(FL_ERROR_INVALID_HANDLE), "FL_ERROR_INVALID_HANDLE");
+}
+
+TEST_F(PluginApi, PackageInfoFramesAndDefaultLook) {
+    const fl_package p = load();
+    fl_package_info info = fl_package_info_defaults();
+    ASSERT_EQ(fl_package_get_info(p, &info), FL_OK);
+    EXPECT_EQ(info.width, 16);
+    EXPECT_EQ(info.height, 12);
+    EXPECT_EQ(info.frame_count, 3);
+    EXPECT_EQ(info.first_frame, 3);
+    EXPECT_EQ(info.last_frame, 5);
+    EXPECT_EQ(info.max_rank, 8);
+    EXPECT_EQ(info.bin_count, 16);
+    EXPECT_EQ(info.light_count, 1);
+    EXPECT_EQ(info.alpha_threshold_count, 5);
+    EXPECT_DOUBLE_EQ(info.albedo, 0.7);
+    EXPECT_DOUBLE_EQ(info.smoke_extinction_min, 2.0);
+    EXPECT_DOUBLE_EQ(info.smoke_extinction_max, 16.0);
+    uint32_t count = 0;
+    int32_t numbers[3], ranks[3];
+    ASSERT_EQ(fl_package_get_frames(p, numbers, ranks, 3, &count), FL_OK);
+    EXPECT_EQ(count, 3u);
+    EXPECT_EQ(numbers[2], 5);
+    EXPECT_EQ(ranks[0], 8);
+    EXPECT_EQ(ranks[1], 7);
+    EXPECT_EQ(fl_package_get_frames(p, numbers, ranks, 2, &count), FL_ERROR_BUFFER_TOO_SMALL);
+    size_t size = 0;
+    ASSERT_EQ(fl_package_get_default_look_json(p, nullptr, 0, &size), FL_OK);
+    ASSERT_GT(size, 10u);
+    std::string text(size, '\0');
+    EXPECT_EQ(fl_package_get_default_look_json(p, text.data(), size - 1, &size), FL_ERROR_BUFFER_TOO_SMALL);
+    ASSERT_EQ(fl_package_get_default_look_json(p, text.data(), size, &size), FL_OK);
+    EXPECT_NE(text.find("firelook-look"), std::string::npos);
+    fl_look look{};
+    EXPECT_EQ(fl_look_from_json(text.c_str(), 0, "default", &look), FL_OK) << fl_last_error();
+    EXPECT_EQ(fl_look_release(look), FL_OK);
+}
+
+TEST_F(PluginApi, ImageEqualsRenderLookImageAndGpuDataReproducesIt) {
+    const fl_package p = load();
+    fl_world world{};
+    ASSERT_EQ(fl_world_create(nullptr, &world), FL_OK);
+    fl_look look{};
+    ASSERT_EQ(fl_look_from_json(kLookJson, 0, "test look", &look), FL_OK) << fl_last_error();
+    fl_instance_desc idesc = fl_instance_desc_defaults();
+    idesc.package = p;
+    idesc.look = look;
+    fl_instance inst{};
+    ASSERT_EQ(fl_instance_create(world, &idesc, &inst), FL_OK) << fl_last_error();
+    fl_outputs_desc out = fl_outputs_desc_defaults();
+    out.image = 1;
+    ASSERT_EQ(fl_instance_set_outputs(world, inst, &out), FL_OK);
+    fl_playback_desc pb = fl_playback_desc_defaults();
+    pb.paused = 1;
+    pb.rate = 1.0;
+    pb.time = 1.0;  // frame 4
+    ASSERT_EQ(fl_instance_set_playback(world, inst, &pb), FL_OK);
+    std::vector<float> image(16 * 12 * 4);
+    EXPECT_EQ(fl_instance_get_image(world, inst, image.data(), image.size()), FL_ERROR_NO_DATA);
+    const long allocs_before = g_allocs;
+    ASSERT_EQ(fl_world_update(world, 0.0), FL_OK);
+    EXPECT_GT(g_allocs.load(), 0);  // the image buffer and the decoded U came from the host allocator
+    (void)allocs_before;
+    EXPECT_EQ(fl_instance_get_image(world, inst, image.data(), image.size() - 1), FL_ERROR_BUFFER_TOO_SMALL);
+    ASSERT_EQ(fl_instance_get_image(world, inst, image.data(), image.size()), FL_OK);
+    fl_package_info info = fl_package_info_defaults();
+    ASSERT_EQ(fl_package_get_info(p, &info), FL_OK);
+    ASSERT_GE(info.footprint_samples, 1);
+
+    // Reference: the runtime's renderLookImage of the same package, frame and look.
+    const auto package = firelook::basis::BasisPackage::open(path_);
+    const auto& d = package.description();
+    const firelook::basis::FrameFactors f = package.loadFrame(4);
+    std::vector<float> want(image.size());
+    firelook::basis::renderLookImage(d, f, firelook::basis::decodeU(f), firelook::parseLook(kLookJson, "x"), want);
+    double peak = 0.0;
+    for (size_t i = 0; i < want.size(); ++i)
+        if (i % 4 != 3) peak = std::max(peak, static_cast<double>(want[i]));
+    for (size_t i = 0; i < want.size(); ++i)
+        ASSERT_NEAR(image[i], want[i], 1e-5 * peak + 1e-5 * std::abs(want[i])) << i;
+
+    // GPU path: U layers + depth layers + z + state reproduce the image.
+    fl_instance_state st = fl_instance_state_defaults();
+    ASSERT_EQ(fl_instance_get_state(world, inst, &st), FL_OK);
+    EXPECT_EQ(st.frame, 4);
+    EXPECT_EQ(st.rank, 7);
+    std::vector<float> z(st.rank * 3);
+    int32_t rank = 0;
+    ASSERT_EQ(fl_instance_get_coefficients(world, inst, z.data(), z.size(), &rank), FL_OK);
+    size_t n_u = 0, n_d = 0;
+    ASSERT_EQ(fl_package_get_frame_u(p, 4, nullptr, 0, &n_u), FL_OK);
+    EXPECT_EQ(n_u, size_t(2) * 16 * 12 * 4);  // ceil(7 / 4) = 2 layers
+    std::vector<uint16_t> u(n_u);
+    ASSERT_EQ(fl_package_get_frame_u(p, 4, u.data(), u.size(), &n_u), FL_OK);
+    ASSERT_EQ(fl_package_get_frame_depths(p, 4, nullptr, 0, &n_d), FL_OK);
+    std::vector<float> depths(n_d);
+    ASSERT_EQ(fl_package_get_frame_depths(p, 4, depths.data(), depths.size(), &n_d), FL_OK);
+    const size_t pixels = 16 * 12;
+    for (size_t px = 0; px < pixels; ++px) {
+        float rgb[3] = {0, 0, 0};
+        for (int k = 0; k < rank; ++k) {
+            const float uk = glm::unpackHalf1x16(u[((k / 4) * pixels + px) * 4 + k % 4]);
+            for (int c = 0; c < 3; ++c) rgb[c] += uk * z[k * 3 + c];
+        }
+        for (int c = 0; c < 3; ++c)
+            ASSERT_NEAR(std::max(rgb[c], 0.0f), image[px * 4 + c], 1e-5 * peak + 1e-5 * std::abs(image[px * 4 + c]));
+        // alpha = mean over the footprint samples s of 1 - exp(-(a O_a(s) + b O_b(s))).
+        const size_t samples = static_cast<size_t>(info.footprint_samples), thresholds = 5;
+        float alpha = 0.0f;
+        for (size_t s = 0; s < samples; ++s) {
+            const float* oa = depths.data() + samples * pixels + s * thresholds * pixels;
+            const float o_a = (1 - st.alpha_layer_t) * oa[st.alpha_layer_lower * pixels + px] +
+                              st.alpha_layer_t * oa[st.alpha_layer_upper * pixels + px];
+            alpha += 1.0f - std::exp(-(st.extinction_a * o_a + st.extinction_b * depths[s * pixels + px]));
+        }
+        ASSERT_NEAR(alpha / samples, image[px * 4 + 3], 1e-5f);
+    }
+    // The padding channel of the last layer is 0 (rank 7 -> channel 3 of layer 1).
+    EXPECT_EQ(u[(1 * pixels + 0) * 4 + 3], 0);
+    EXPECT_EQ(fl_package_get_frame_u(p, 99, u.data(), u.size(), &n_u), FL_ERROR_NOT_FOUND);
+    EXPECT_EQ(fl_world_destroy(world), FL_OK);
+    EXPECT_EQ(fl_look_release(look), FL_OK);
+    EXPECT_EQ(fl_package_release(p), FL_OK);
+}
+
+TEST_F(PluginApi, StaleAndInvalidHandlesAndWrongStructSizesNeverCrash) {
+    fl_package p = load();
+    fl_world world{};
+    ASSERT_EQ(fl_world_create(nullptr, &world), FL_OK);
+    fl_instance_desc idesc = fl_instance_desc_defaults();
+    idesc.package = p;
+    fl_instance inst{};
+    ASSERT_EQ(fl_instance_create(world, &idesc, &inst), FL_OK);
+    fl_outputs_desc out = fl_outputs_desc_defaults();
+    fl_playback_desc pb = fl_playback_desc_defaults();
+    fl_instance_state st = fl_instance_state_defaults();
+    fl_package_info info = fl_package_info_defaults();
+    float buf[16];
+
+    // Wrong struct sizes.
+    idesc.struct_size = 4;
+    fl_instance other{};
+    EXPECT_EQ(fl_instance_create(world, &idesc, &other), FL_ERROR_STRUCT_SIZE);
+    EXPECT_EQ(other.id, 0u);
+    idesc.struct_size = 0;
+    EXPECT_EQ(fl_instance_create(world, &idesc, &other), FL_ERROR_STRUCT_SIZE);
+    out.struct_size = 3;
+    EXPECT_EQ(fl_instance_set_outputs(world, inst, &out), FL_ERROR_STRUCT_SIZE);
+    pb.struct_size = sizeof(pb) - 8;
+    EXPECT_EQ(fl_instance_set_playback(world, inst, &pb), FL_ERROR_STRUCT_SIZE);
+    st.struct_size = 0;
+    EXPECT_EQ(fl_instance_get_state(world, inst, &st), FL_ERROR_STRUCT_SIZE);
+    info.struct_size = 8;
+    EXPECT_EQ(fl_package_get_info(p, &info), FL_ERROR_STRUCT_SIZE);
+    EXPECT_NE(std::string(fl_last_error()).find("struct_size"), std::string::npos);
+    info = fl_package_info_defaults();
+    fl_world_desc wd = fl_world_desc_defaults();
+    wd.struct_size = 1;
+    fl_world w2{};
+    EXPECT_EQ(fl_world_create(&wd, &w2), FL_ERROR_STRUCT_SIZE);
+
+    // Null pointers.
+    EXPECT_EQ(fl_instance_create(world, nullptr, &other), FL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(fl_instance_create(world, &idesc, nullptr), FL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(fl_package_load(nullptr, &p), FL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(fl_instance_get_image(world, inst, nullptr, 100), FL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(fl_instance_set_keyframes(world, inst, nullptr, 1), FL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(fl_world_update(world, NAN), FL_ERROR_INVALID_ARGUMENT);
+
+    // Invalid handles: 0, garbage, another kind's id, stale after release/destroy.
+    const uint32_t garbage[] = {0u, 1u << 20, 0xFFFFFFFFu, 0x12345u, world.id + 1};
+    for (uint32_t id : garbage) {
+        EXPECT_EQ(fl_world_update(fl_world{id}, 0.0), FL_ERROR_INVALID_HANDLE) << id;
+        EXPECT_EQ(fl_package_get_info(fl_package{id}, &info), FL_ERROR_INVALID_HANDLE) << id;
+        EXPECT_EQ(fl_look_release(fl_look{id}), FL_ERROR_INVALID_HANDLE) << id;
+        EXPECT_EQ(fl_instance_get_image(world, fl_instance{id == inst.id ? 0 : id}, buf, 16),
+                  FL_ERROR_INVALID_HANDLE) << id;
+        EXPECT_EQ(fl_instance_destroy(world, fl_instance{id == inst.id ? 0 : id}), FL_ERROR_INVALID_HANDLE) << id;
+    }
+    EXPECT_EQ(fl_instance_destroy(world, inst), FL_OK);
+    EXPECT_EQ(fl_instance_destroy(world, inst), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_get_state(world, inst, &st), FL_ERROR_STRUCT_SIZE);  // checked first
+    st = fl_instance_state_defaults();
+    EXPECT_EQ(fl_instance_get_state(world, inst, &st), FL_ERROR_INVALID_HANDLE);
+    fl_look look{};
+    ASSERT_EQ(fl_look_from_json(kLookJson, 0, nullptr, &look), FL_OK);
+    EXPECT_EQ(fl_instance_set_look(world, inst, look), FL_ERROR_INVALID_HANDLE);
+    // A new instance reuses the slot: the old handle stays stale.
+    fl_instance again{};
+    idesc = fl_instance_desc_defaults();
+    idesc.package = p;
+    ASSERT_EQ(fl_instance_create(world, &idesc, &again), FL_OK);
+    EXPECT_NE(again.id, inst.id);
+    EXPECT_EQ(fl_instance_set_look(world, inst, look), FL_ERROR_INVALID_HANDLE);
+    // Released package: the handle dies, the instance keeps working.
+    EXPECT_EQ(fl_package_release(p), FL_OK);
+    EXPECT_EQ(fl_package_release(p), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_package_get_info(p, &info), FL_ERROR_INVALID_HANDLE);
+    idesc.package = p;
+    EXPECT_EQ(fl_instance_create(world, &idesc, &other), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_world_update(world, 0.1), FL_OK);
+    // Released look.
+    EXPECT_EQ(fl_look_release(look), FL_OK);
+    EXPECT_EQ(fl_instance_set_look(world, again, look), FL_ERROR_INVALID_HANDLE);
+    // Destroyed world.
+    EXPECT_EQ(fl_world_destroy(world), FL_OK);
+    EXPECT_EQ(fl_world_update(world, 0.0), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_destroy(world, again), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_world_destroy(world), FL_ERROR_INVALID_HANDLE);
+    EXPECT_GT(g_logs.load(), 0);
+    EXPECT_NE(g_last_log.find("invalid"), std::string::npos);
+}
+
+TEST_F(PluginApi, LooksAndPackagesWithErrorsReportCodesAndMessages) {
+    fl_look look{};
+    EXPECT_EQ(fl_look_from_json("{ not json", 0, "broken.json", &look), FL_ERROR_LOOK);
+    EXPECT_NE(std::string(fl_last_error()).find("broken.json"), std::string::npos);
+    const std::string wrong_albedo = std::string(kLookJson).replace(std::string(kLookJson).find("0.7"), 3, "0.9");
+    ASSERT_EQ(fl_look_from_json(wrong_albedo.c_str(), 0, "pale.json", &look), FL_OK);
+    const fl_package p = load();
+    fl_world world{};
+    ASSERT_EQ(fl_world_create(nullptr, &world), FL_OK);
+    fl_instance_desc idesc = fl_instance_desc_defaults();
+    idesc.package = p;
+    idesc.look = look;
+    fl_instance inst{};
+    EXPECT_EQ(fl_instance_create(world, &idesc, &inst), FL_ERROR_LOOK);
+    EXPECT_NE(std::string(fl_last_error()).find("albedo"), std::string::npos);
+    uint32_t count = 99;
+    ASSERT_EQ(fl_world_instance_count(world, &count), FL_OK);
+    EXPECT_EQ(count, 0u);  // the failed create left nothing behind
+
+    fl_package q{};
+    EXPECT_EQ(fl_package_load((dir_ / "missing.firelook").c_str(), &q), FL_ERROR_IO);
+    EXPECT_NE(std::string(fl_last_error()).find("missing.firelook"), std::string::npos);
+    std::ofstream(dir_ / "text.firelook") << "this is not a package at all, just some text to read";
+    EXPECT_EQ(fl_package_load((dir_ / "text.firelook").c_str(), &q), FL_ERROR_NOT_A_PACKAGE);
+    // Truncated copy of a real package.
+    std::ifstream in(path_, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(dir_ / "cut.firelook", std::ios::binary).write(bytes.data(), bytes.size() / 2);
+    const fl_result cut = fl_package_load((dir_ / "cut.firelook").c_str(), &q);
+    EXPECT_TRUE(cut == FL_ERROR_CORRUPT || cut == FL_ERROR_NOT_A_PACKAGE) << fl_result_string(cut);
+    EXPECT_EQ(q.id, 0u);
+    EXPECT_EQ(fl_world_destroy(world), FL_OK);
+}
+
+TEST_F(PluginApi, PlainCTranslationUnitRunsTheWholeCycle) {
+    EXPECT_EQ(firelook_c_smoke(path_.c_str()), 0) << fl_last_error();
+}
+
+TEST(PluginApiLibrary, LoadsWithDlopenAndExportsOnlyTheApi) {
+    void* lib = dlopen(FIRELOOK_PLUGIN_PATH, RTLD_NOW | RTLD_LOCAL);
+    ASSERT_NE(lib, nullptr) << dlerror();
+    using VersionFn = uint32_t (*)();
+    auto version = reinterpret_cast<VersionFn>(dlsym(lib, "fl_version"));
+    ASSERT_NE(version, nullptr) << dlerror();
+    EXPECT_EQ(version(), static_cast<uint32_t>(FIRELOOK_HEADER_VERSION));
+    EXPECT_NE(dlsym(lib, "fl_init"), nullptr);
+    EXPECT_NE(dlsym(lib, "fl_world_update"), nullptr);
+    // Runtime internals stay hidden (the version script exports fl_* only).
+    EXPECT_EQ(dlsym(lib, "_ZN8firelook7runtime5World6updateEd"), nullptr);
+    dlclose(lib);
+}
+
+}  // namespace
