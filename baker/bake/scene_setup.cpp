@@ -96,7 +96,10 @@ std::pair<int, int> parseSize(const std::string& text) {
     const size_t x = text.find('x');
     try {
         if (x == std::string::npos) throw std::invalid_argument("no x");
-        const int w = std::stoi(text.substr(0, x)), h = std::stoi(text.substr(x + 1));
+        size_t w_end = 0, h_end = 0;
+        const std::string w_text = text.substr(0, x), h_text = text.substr(x + 1);
+        const int w = std::stoi(w_text, &w_end), h = std::stoi(h_text, &h_end);
+        if (w_end != w_text.size() || h_end != h_text.size()) throw std::invalid_argument("trailing characters");
         if (w < 1 || h < 1 || w > 16384 || h > 16384) throw std::invalid_argument("range");
         return {w, h};
     } catch (const std::exception&) {

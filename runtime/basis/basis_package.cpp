@@ -1,5 +1,6 @@
 #include "basis/basis_package.h"
 
+#include <algorithm>
 #include <cstring>
 #include <glm/gtc/packing.hpp>
 #include <nlohmann/json.hpp>
@@ -37,6 +38,14 @@ std::vector<T> readArray(const package::PackageReader& reader, uint32_t type, in
 // F = (O_a + O_b) / 2 = integral of rho (1 + f) / 2, which is exactly 0 wherever no flame
 // is crossed, so most of it compresses to nothing.
 void writeFrameFactors(package::PackageWriter& writer, const FrameFactors& factors) {
+    const size_t pixels_count = static_cast<size_t>(std::max(factors.pixels, 0));
+    const size_t rank = static_cast<size_t>(std::max(factors.rank, 0));
+    const size_t rays_count = factors.depth_density.size();
+    if (factors.u_half.size() != pixels_count * rank ||
+        factors.svt.size() != static_cast<size_t>(std::max(factors.columns, 0)) * rank || pixels_count == 0 ||
+        rays_count == 0 || rays_count % pixels_count != 0 || factors.depth_sigmoid.size() % rays_count != 0)
+        throw std::invalid_argument("frame " + std::to_string(factors.frame) +
+                                    ": factor sizes do not match pixels, columns and rank");
     const auto frame = static_cast<uint32_t>(factors.frame);
     writer.addSection(kSectionU, frame, bytesOf(factors.u_half));
     writer.addSection(kSectionSVt, frame, bytesOf(factors.svt));

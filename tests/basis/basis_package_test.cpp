@@ -132,15 +132,20 @@ TEST(BasisPackage, WrongSectionSizeNamesTheFileAndSection) {
     const std::string e = errorOf([&] { package.loadFrame(1); });
     EXPECT_NE(e.find((dir / "a.firelook").string()), std::string::npos) << e;
     EXPECT_NE(e.find("UFAC"), std::string::npos) << e;
+}
 
-    // Depth maps for fewer alpha thresholds than the description has.
-    BakeDescription fewer = description();
-    FrameFactors f = factors(fewer, 1, 2);
-    f.depth_sigmoid.resize(f.depth_sigmoid.size() - 1);
-    writePackage(dir / "b.firelook", fewer, {f});
-    const std::string e2 = errorOf([&] { BasisPackage::open(dir / "b.firelook").loadFrame(1); });
-    EXPECT_NE(e2.find((dir / "b.firelook").string()), std::string::npos) << e2;
-    EXPECT_NE(e2.find("ODEP"), std::string::npos) << e2;
+// Regression: writeFrameFactors once read past depth_density (AddressSanitizer) when depth_sigmoid
+// was not a whole number of depth images; every size is now checked before anything is written.
+TEST(BasisPackage, InconsistentFactorsAreRefusedByTheWriter) {
+    TempDir dir;
+    const BakeDescription d = description();
+    FrameFactors f = factors(d, 1, 2);
+    f.depth_sigmoid.pop_back();
+    package::PackageWriter writer(dir / "a.firelook");
+    EXPECT_THROW(writeFrameFactors(writer, f), std::invalid_argument);
+    f = factors(d, 2, 2);
+    f.u_half.pop_back();
+    EXPECT_THROW(writeFrameFactors(writer, f), std::invalid_argument);
 }
 
 TEST(BasisPackage, MissingSectionNamesTheFileAndSection) {

@@ -241,10 +241,9 @@ TEST(Cli, BadArgumentsFail) {
     EXPECT_EQ(dir.entries(), std::vector<std::string>{"bake.json"});
 }
 
-// BUG (baker/bake/scene_setup.cpp, parseSize): std::stoi stops at the first non-digit, so "16x16x16",
-// "16x16abc" and "16.5x16" are accepted as 16x16 instead of being refused. Enable once parseSize
-// checks that each number consumed its whole part (std::stoi's `pos` argument, or std::from_chars).
-TEST(Cli, DISABLED_SizeWithTrailingGarbageFails) {
+// Regression: parseSize once accepted "16x16x16", "16x16abc" and "16.5x16" as 16x16 (std::stoi
+// stops at the first non-digit); each number must now use its whole part.
+TEST(Cli, SizeWithTrailingGarbageFails) {
     TempDir dir;
     writeTinyConfig(dir);
     for (const char* size : {"16x16x16", "16x16abc", "16.5x16"}) {
