@@ -8,7 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "../basis/temp_dir.h"
+#include "../support/temp_dir.h"
 
 namespace firelook::bake {
 namespace {

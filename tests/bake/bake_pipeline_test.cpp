@@ -8,7 +8,7 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 
-#include "../basis/temp_dir.h"
+#include "../support/temp_dir.h"
 #include "basis/basis_package.h"
 #include "look/look.h"
 #include "vdb/vdb_sequence.h"

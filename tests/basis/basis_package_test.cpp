@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "package/error.h"
-#include "temp_dir.h"
+#include "../support/temp_dir.h"
 
 namespace firelook::basis {
 namespace {

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "../basis/temp_dir.h"
+#include "../support/temp_dir.h"
 #include "image/image_io.h"
 
 namespace {

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "temp_dir.h"
+#include "../support/temp_dir.h"
 
 namespace firelook::image {
 namespace {

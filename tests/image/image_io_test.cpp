@@ -11,7 +11,7 @@
 #include <string>
 
 #include "image/srgb.h"
-#include "temp_dir.h"
+#include "../support/temp_dir.h"
 
 namespace firelook::image {
 namespace {

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "../basis/temp_dir.h"
+#include "../support/temp_dir.h"
 #include "basis/look_renderer.h"
 #include "synthetic_package.h"
 

@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <fstream>
 
-#include "../basis/temp_dir.h"
+#include "../support/temp_dir.h"
 #include "basis/look_renderer.h"
 #include "world/world.h"
 

@@ -10,7 +10,7 @@
 
 #include <cmath>
 
-#include "../basis/temp_dir.h"
+#include "../support/temp_dir.h"
 #include "basis/look_renderer.h"
 #include "basis/recombine.h"
 #include "synthetic_package.h"

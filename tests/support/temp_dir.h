@@ -1,4 +1,5 @@
-// A fresh folder per test under the system temp folder, removed when the test ends.
+// A fresh folder per test under the system temp folder, removed when the test ends. Shared by
+// every test suite (included as "../support/temp_dir.h").
 #pragma once
 
 #include <gtest/gtest.h>
@@ -9,15 +10,15 @@
 #include <string>
 #include <vector>
 
-namespace firelook::image::testing {
+namespace firelook::testing {
 
 class TempDir {
   public:
     TempDir() {
         const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path_ = std::filesystem::temp_directory_path() /
-                ("firelook-image-" + std::string(info->test_suite_name()) + "-" + info->name() + "-" +
-                 std::to_string(::getpid()));
+        path_ =
+            std::filesystem::temp_directory_path() / ("firelook-" + std::string(info->test_suite_name()) +
+                                                      "-" + info->name() + "-" + std::to_string(::getpid()));
         std::filesystem::remove_all(path_);
         std::filesystem::create_directories(path_);
     }
@@ -29,13 +30,13 @@ class TempDir {
     TempDir& operator=(const TempDir&) = delete;
 
     const std::filesystem::path& path() const { return path_; }
+    std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
 
     // Names of everything in the folder, so a test can prove nothing stray was left behind.
     std::vector<std::string> entries() const {
         std::vector<std::string> names;
-        for (const auto& entry : std::filesystem::directory_iterator(path_)) {
+        for (const auto& entry : std::filesystem::directory_iterator(path_))
             names.push_back(entry.path().filename().string());
-        }
         std::sort(names.begin(), names.end());
         return names;
     }
@@ -44,4 +45,4 @@ class TempDir {
     std::filesystem::path path_;
 };
 
-}  // namespace firelook::image::testing
+}  // namespace firelook::testing
