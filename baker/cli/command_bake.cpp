@@ -1,6 +1,9 @@
 // firelook bake SEQUENCE -o OUT.firelook [--frames A-B] [--size WxH] [--bins N]
-//                [--scene S.gltf | --camera ...] [--config BAKE.json] [--seed S]
+//                [--scene S.gltf | --camera ...] [--config BAKE.json] [--seed S] [--report R.json]
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "bake/bake_pipeline.h"
 #include "cli/commands.h"
@@ -10,10 +13,34 @@
 #include "cli/version.h"
 
 namespace firelook::cli {
+namespace {
+
+// Timings live here, not in the package: the package's bytes depend only on inputs and seed.
+void writeReportJson(const std::string& path, const bake::BakeReport& report) {
+    nlohmann::ordered_json frames = nlohmann::ordered_json::array();
+    for (const bake::FrameBakeReport& f : report.frames)
+        frames.push_back({{"frame", f.frame},
+                          {"rank", f.rank},
+                          {"svd_truncation_relative_error", f.truncation_error},
+                          {"half_quantisation_relative_error", f.quantisation_error},
+                          {"scattering_orders", f.scattering_orders},
+                          {"trace_seconds", f.trace_seconds},
+                          {"svd_seconds", f.compress_seconds}});
+    const nlohmann::ordered_json doc = {{"seconds", report.seconds},
+                                        {"peak_memory_mib", report.peak_memory_kib / 1024.0},
+                                        {"package_bytes", report.package_bytes},
+                                        {"uncompressed_basis_bytes", report.uncompressed_basis_bytes},
+                                        {"frames", frames}};
+    const std::string tmp = path + ".tmp";
+    std::ofstream(tmp) << doc.dump(2) << "\n";
+    std::filesystem::rename(tmp, path);
+}
+
+}  // namespace
 
 void registerBakeCommand(CLI::App& app) {
     struct Args {
-        std::string sequence, output, frames;
+        std::string sequence, output, frames, report_json;
         uint64_t seed = 1;
         SceneFlags scene;
     };
@@ -23,6 +50,8 @@ void registerBakeCommand(CLI::App& app) {
     cmd->add_option("-o,--output", args->output, "output package (.firelook)")->required();
     cmd->add_option("--frames", args->frames, "frames: A-B ranges and single frames, comma-separated (numbers from the file names)");
     cmd->add_option("--seed", args->seed, "random seed: the same seed gives the same bytes")->capture_default_str();
+    cmd->add_option("--report", args->report_json,
+                    "also write what the bake measured (time, peak memory, sizes, per-frame rank and errors) as JSON");
     addSceneFlags(*cmd, args->scene);
     cmd->callback([cmd, args] {
         bake::BakeConfig config = makeBakeConfig(*cmd, args->scene);
@@ -46,6 +75,7 @@ void registerBakeCommand(CLI::App& app) {
             std::printf("%6d %5d %10.2e %10.2e %7d %9.1f %9.1f\n", f.frame, f.rank, f.truncation_error,
                         f.quantisation_error, f.scattering_orders, f.trace_seconds, f.compress_seconds);
         std::printf("bake time %.1f s, peak memory %.0f MiB\n", report.seconds, report.peak_memory_kib / 1024.0);
+        if (!args->report_json.empty()) writeReportJson(args->report_json, report);
     });
 }
 

@@ -1,4 +1,5 @@
 // firelook bench SEQUENCE --package P [--frames 3,7,11] [--looks 20] [--spp 1024] [--split] [--json OUT]
+//                [--alpha-rays N] [--reference-cache DIR] [--csv FILE --label TEXT]
 //
 // Accuracy of a baked package against the reference path tracer (DESIGN.md
 // section 4): random looks inside the baked ranges — T_c, k_s, k_f between grid
@@ -10,6 +11,7 @@
 //   compression   package (SVD truncation + half U) vs the uncompressed blend
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -25,6 +27,7 @@
 #include "cli/interrupt.h"
 #include "cli/progress_bar.h"
 #include "render/random.h"
+#include "render/footprint_transmittance.h"
 #include "render/reference_tracer.h"
 
 namespace firelook::cli {
@@ -96,43 +99,77 @@ std::vector<float> imageFromBasis(const basis::BakeDescription& d, const basis::
     return rgba;
 }
 
-// Alpha against which the package is judged: the exact transmittance of the
-// model averaged over each pixel's footprint (4x4 stratified rays), integrated
-// with midpoint steps of 0.1 voxel. The path tracer's alpha is unbiased but at
-// 1024 spp its per-pixel noise alone (up to 0.5/sqrt(spp) = 0.016) exceeds the
-// 0.01 bar somewhere in a 128x128 image, so it cannot judge alpha.
-std::vector<float> exactFootprintAlpha(const render::Medium& medium, const LookModel& model,
-                                       const render::Camera& camera) {
-    constexpr int kPerAxis = 4;
-    const render::WorldBox box = medium.worldBounds();
-    const double step = 0.1 * medium.minVoxelEdge();
-    std::vector<float> alpha(static_cast<size_t>(camera.width()) * camera.height(), 0.0f);
-    if (medium.empty()) return alpha;
-    for (int py = 0; py < camera.height(); ++py)
-        for (int px = 0; px < camera.width(); ++px) {
-            double sum = 0.0;
-            for (int s = 0; s < kPerAxis * kPerAxis; ++s) {
-                const render::Ray ray =
-                    camera.generateRay(px, py, (s % kPerAxis + 0.5) / kPerAxis, (s / kPerAxis + 0.5) / kPerAxis);
-                double t0 = 0.0, t1 = 0.0;
-                if (!render::intersectBox(ray.origin, ray.direction, box.min, box.max, t0, t1)) t1 = t0;
-                double tau = 0.0;
-                for (double t = t0; t < t1; t += step) {
-                    const double dt = std::min(step, t1 - t);
-                    const render::MediumSample m = medium.sampleWorld(ray.origin + (t + 0.5 * dt) * ray.direction);
-                    tau += model.sigmaT(m.density, m.temperature) * dt;
-                }
-                sum += 1.0 - std::exp(-tau);
-            }
-            alpha[static_cast<size_t>(py) * camera.width() + px] = static_cast<float>(sum / (kPerAxis * kPerAxis));
-        }
-    return alpha;
-}
-
 double maxAlphaDifference(const std::vector<float>& rgba, const std::vector<float>& alpha) {
     double worst = 0.0;
     for (size_t p = 0; p < alpha.size(); ++p) worst = std::max(worst, double(std::fabs(rgba[p * 4 + 3] - alpha[p])));
     return worst;
+}
+
+// A reference render kept on disk between bench runs (the sweep evaluates many
+// packages against the same looks). Keyed by everything the image depends on;
+// FNV-1a because the key only has to be stable, not cryptographic.
+std::filesystem::path referenceCachePath(const std::filesystem::path& dir, const std::string& key) {
+    uint64_t h = 1469598103934665603ULL;
+    for (unsigned char c : key) h = (h ^ c) * 1099511628211ULL;
+    char name[40];
+    std::snprintf(name, sizeof name, "ref-%016llx.bin", static_cast<unsigned long long>(h));
+    return dir / name;
+}
+
+bool loadCachedReference(const std::filesystem::path& file, const std::string& key, render::ReferenceResult& out,
+                         int width, int height) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) return false;
+    uint64_t key_size = 0;
+    in.read(reinterpret_cast<char*>(&key_size), sizeof key_size);
+    if (!in || key_size != key.size()) return false;
+    std::string stored(key_size, '\0');
+    in.read(stored.data(), static_cast<std::streamsize>(key_size));
+    if (stored != key) return false;  // a hash collision: render again
+    double noise = 0.0;
+    in.read(reinterpret_cast<char*>(&noise), sizeof noise);
+    std::vector<float> rgba(static_cast<size_t>(width) * height * 4);
+    in.read(reinterpret_cast<char*>(rgba.data()), static_cast<std::streamsize>(rgba.size() * sizeof(float)));
+    if (!in) return false;
+    out.image = {width, height, std::move(rgba)};
+    out.estimated_relative_rmse = noise;
+    return true;
+}
+
+// Written to a temporary name and renamed, so an interrupted bench never leaves a truncated entry.
+void storeCachedReference(const std::filesystem::path& file, const std::string& key, const render::ReferenceResult& r) {
+    const std::filesystem::path tmp = file.string() + ".tmp";
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        const uint64_t key_size = key.size();
+        out.write(reinterpret_cast<const char*>(&key_size), sizeof key_size);
+        out.write(key.data(), static_cast<std::streamsize>(key.size()));
+        out.write(reinterpret_cast<const char*>(&r.estimated_relative_rmse), sizeof r.estimated_relative_rmse);
+        out.write(reinterpret_cast<const char*>(r.image.rgba.data()),
+                  static_cast<std::streamsize>(r.image.rgba.size() * sizeof(float)));
+        if (!out) throw std::runtime_error(tmp.string() + ": cannot write the reference cache entry");
+    }
+    std::filesystem::rename(tmp, file);
+}
+
+// One CSV row per bench run (header written when the file is new), for the speed-vs-error sweep.
+void appendCsvRow(const std::filesystem::path& file, const std::string& label, const ordered_json& summary) {
+    static const char* const kColumns[] = {"looks", "median_relative_rmse", "worst_relative_rmse",
+                                           "median_reference_noise", "median_noise_corrected_rmse",
+                                           "worst_noise_corrected_rmse", "max_alpha_error",
+                                           "median_coefficients_us", "median_image_ms", "package_bytes",
+                                           "bake_seconds", "bake_peak_memory_mib"};
+    const bool fresh = !std::filesystem::exists(file) || std::filesystem::file_size(file) == 0;
+    std::ofstream out(file, std::ios::app);
+    if (fresh) {
+        out << "label";
+        for (const char* c : kColumns) out << ',' << c;
+        out << '\n';
+    }
+    out << label;
+    for (const char* c : kColumns) out << ',' << summary.at(c).dump();
+    out << '\n';
+    if (!out) throw std::runtime_error(file.string() + ": cannot append the bench row");
 }
 
 double median(std::vector<double> v) {
@@ -163,7 +200,8 @@ void registerBenchCommand(CLI::App& app) {
     struct Args {
         std::string sequence, package, json_out;
         std::vector<int> frames;
-        int looks = 20, spp = 1024;
+        std::string reference_cache, csv_out, label, bake_report;
+        int looks = 20, spp = 1024, alpha_rays = 8;
         uint64_t seed = 7;
         bool split = false;
     };
@@ -178,6 +216,17 @@ void registerBenchCommand(CLI::App& app) {
     cmd->add_option("--seed", args->seed, "seed for the looks and the reference")->capture_default_str();
     cmd->add_flag("--split", args->split, "split the error by source (re-traces each frame's basis)");
     cmd->add_option("--json", args->json_out, "write every figure as JSON to this file");
+    cmd->add_option("--alpha-rays", args->alpha_rays,
+                    "rays per pixel along each axis of the exact alpha the package is judged against")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 16));
+    cmd->add_option("--reference-cache", args->reference_cache,
+                    "folder that keeps reference renders between runs (same frame, look, size, spp and seed)");
+    cmd->add_option("--csv", args->csv_out, "append the summary as one row of this CSV file");
+    cmd->add_option("--label", args->label, "the row's label in --csv")->default_str("the package's file name");
+    cmd->add_option("--bake-report", args->bake_report,
+                    "the package's `firelook bake --report` JSON: adds its bake seconds and peak memory to the summary")
+        ->check(CLI::ExistingFile);
     cmd->callback([args] {
         const basis::BasisPackage package = basis::BasisPackage::open(args->package);
         const basis::BakeDescription& d = package.description();
@@ -202,6 +251,7 @@ void registerBenchCommand(CLI::App& app) {
             frames = {f.front().frame, f[f.size() / 2].frame, f.back().frame};
             frames.erase(std::unique(frames.begin(), frames.end()), frames.end());
         }
+        if (!args->reference_cache.empty()) std::filesystem::create_directories(args->reference_cache);
         const bake::TraceSettings trace = traceSettingsOf(metadata);
         const uint64_t bake_seed = prov.at("settings").at("seed");
 
@@ -213,6 +263,8 @@ void registerBenchCommand(CLI::App& app) {
         int done = 0;
         for (int frame : frames) {
             const render::Medium medium = bake::mediumFromFrame(sequence.load(frame));
+            bar.update(double(done) / total, "frame " + std::to_string(frame) + ": exact alpha");
+            const render::FootprintTransmittance exact_alpha(medium, camera, d.bins, args->alpha_rays);
             const basis::FrameFactors factors = package.loadFrame(frame);
             const std::vector<float> u = basis::decodeU(factors);
             bake::FrameBasis full;
@@ -241,10 +293,23 @@ void registerBenchCommand(CLI::App& app) {
                 render::ReferenceSettings rs;
                 rs.samples_per_pixel = args->spp;
                 rs.seed = args->seed * 7919 + static_cast<uint64_t>(done);
-                const render::ReferenceResult ref = render::renderReference(medium, model, camera, rs);
+                render::ReferenceResult ref;
+                const std::string cache_key = "frame " + std::to_string(frame) + " size " + std::to_string(d.width) +
+                                              "x" + std::to_string(d.height) + " spp " + std::to_string(rs.samples_per_pixel) +
+                                              " seed " + std::to_string(rs.seed) + " bins " +
+                                              std::to_string(d.bins.t_lo) + " " + std::to_string(d.bins.t_hi) + " " +
+                                              std::to_string(d.bins.count) + " camera " + cam.dump() + " look " +
+                                              lookToJson(look);
+                const std::filesystem::path cache_file =
+                    args->reference_cache.empty() ? std::filesystem::path()
+                                                  : referenceCachePath(args->reference_cache, cache_key);
+                if (cache_file.empty() || !loadCachedReference(cache_file, cache_key, ref, d.width, d.height)) {
+                    ref = render::renderReference(medium, model, camera, rs);
+                    if (!cache_file.empty()) storeCachedReference(cache_file, cache_key, ref);
+                }
                 const render::RenderImage pkg = toImage(d, rgba);
                 const double e = render::relativeRmse(pkg, ref.image);
-                const double a = maxAlphaDifference(rgba, exactFootprintAlpha(medium, model, camera));
+                const double a = maxAlphaDifference(rgba, exact_alpha.alpha(look.extinction()));
                 const double a_traced = render::maxAlphaError(pkg, ref.image);
                 rmse.push_back(e);
                 ref_noise.push_back(ref.estimated_relative_rmse);
@@ -287,6 +352,7 @@ void registerBenchCommand(CLI::App& app) {
                                 {"frames", frames},
                                 {"looks", rmse.size()},
                                 {"reference_spp", args->spp},
+                                {"alpha_rays_per_pixel", args->alpha_rays * args->alpha_rays},
                                 {"median_relative_rmse", median(rmse)},
                                 {"worst_relative_rmse", maxOf(rmse)},
                                 {"median_reference_noise", median(ref_noise)},
@@ -296,15 +362,27 @@ void registerBenchCommand(CLI::App& app) {
                                 {"median_coefficients_us", median(coeff_us)},
                                 {"median_image_ms", median(image_ms)},
                                 {"package_bytes", package.reader().fileSize()}};
+        summary["bake_seconds"] = nullptr;
+        summary["bake_peak_memory_mib"] = nullptr;
+        if (!args->bake_report.empty()) {
+            const ordered_json bake_report = ordered_json::parse(std::ifstream(args->bake_report));
+            summary["bake_seconds"] = bake_report.at("seconds");
+            summary["bake_peak_memory_mib"] = bake_report.at("peak_memory_mib");
+        }
         if (args->split)
             summary["split_median"] = {{"tracing_vs_reference", median(e_trace)},
                                        {"interpolation", median(e_interp)},
                                        {"compression", median(e_compress)}};
         std::printf("%s\n", summary.dump(2).c_str());
         if (!args->json_out.empty()) {
-            std::ofstream out(args->json_out);
-            out << ordered_json{{"summary", summary}, {"looks", rows}}.dump(2) << "\n";
+            const std::string tmp = args->json_out + ".tmp";
+            std::ofstream(tmp) << ordered_json{{"summary", summary}, {"looks", rows}}.dump(2) << "\n";
+            std::filesystem::rename(tmp, args->json_out);
         }
+        if (!args->csv_out.empty())
+            appendCsvRow(args->csv_out,
+                         args->label.empty() ? std::filesystem::path(args->package).stem().string() : args->label,
+                         summary);
     });
 }
 

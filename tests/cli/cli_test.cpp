@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -252,6 +253,53 @@ TEST(Cli, SizeWithTrailingGarbageFails) {
         EXPECT_NE(r.exit_code, 0) << "--size " << size;
         std::filesystem::remove(dir / "pkg.firelook");
     }
+}
+
+// The speed-vs-error sweep's plumbing: `bake --report` records what the bake measured, `bench --csv`
+// appends one row per run, and `--reference-cache` makes a second run reuse the path-traced
+// references, giving the same figures (the package's error does not depend on the cache).
+TEST(Cli, BakeReportAndBenchCsvWithReferenceCache) {
+    TempDir dir;
+    writeTinyConfig(dir);
+    Result r = run(dir, "bake '" + kSample +
+                            "' -o pkg.firelook --frames 1 --size 16x16 --up z --config bake.json --report bake.json.report");
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    const json report = json::parse(readFile(dir / "bake.json.report"));
+    EXPECT_GT(report.at("seconds").get<double>(), 0.0);
+    EXPECT_GT(report.at("peak_memory_mib").get<double>(), 0.0);
+    EXPECT_EQ(report.at("package_bytes").get<uint64_t>(), std::filesystem::file_size(dir / "pkg.firelook"));
+    ASSERT_EQ(report.at("frames").size(), 1u);
+    EXPECT_GT(report.at("frames")[0].at("rank").get<int>(), 0);
+
+    const std::string bench = "bench '" + kSample +
+                              "' --package pkg.firelook --frames 1 --looks 2 --spp 8 --alpha-rays 2 "
+                              "--reference-cache refs --csv sweep.csv --bake-report bake.json.report ";
+    r = run(dir, bench + "--label first --json first.json");
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    ASSERT_TRUE(std::filesystem::is_directory(dir / "refs"));
+    size_t cached = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(dir / "refs")) {
+        EXPECT_EQ(entry.path().extension(), ".bin") << "no temporary left: " << entry.path();
+        ++cached;
+    }
+    EXPECT_EQ(cached, 2u) << "one reference per look";
+    r = run(dir, bench + "--label second --json second.json");
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+
+    const json first = json::parse(readFile(dir / "first.json")).at("summary");
+    const json second = json::parse(readFile(dir / "second.json")).at("summary");
+    for (const char* key : {"median_relative_rmse", "worst_relative_rmse", "median_reference_noise", "max_alpha_error"})
+        EXPECT_EQ(first.at(key), second.at(key)) << key;
+    EXPECT_EQ(first.at("bake_seconds"), report.at("seconds"));
+
+    const std::vector<std::string> rows = lines(readFile(dir / "sweep.csv"));
+    ASSERT_EQ(rows.size(), 3u) << "header and two rows";
+    EXPECT_EQ(rows[0].rfind("label,looks,median_relative_rmse,", 0), 0u) << rows[0];
+    EXPECT_EQ(rows[1].rfind("first,2,", 0), 0u) << rows[1];
+    EXPECT_EQ(rows[2].rfind("second,2,", 0), 0u) << rows[2];
+    const auto columns = [](const std::string& row) { return std::count(row.begin(), row.end(), ',') + 1; };
+    EXPECT_EQ(columns(rows[1]), columns(rows[0]));
+    EXPECT_EQ(columns(rows[2]), columns(rows[0]));
 }
 
 }  // namespace
