@@ -1,5 +1,7 @@
 #include "bake/bake_config.h"
 
+#include <algorithm>
+#include <array>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -45,9 +47,18 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         const json j = json::parse(text.str());
         checkKeys(j, {"format", "version", "frames", "size", "bins", "t_lo", "t_hi", "rbf_width", "albedo", "axes",
                       "alpha_threshold_samples", "trace", "compression", "seed", "up", "density_grid",
-                      "temperature_grid", "temperature_scale", "temperature_offset"},
+                      "temperature_grid", "temperature_scale", "temperature_offset", "scene", "camera"},
                   "the bake config");
-        if (j.contains("frames")) c.frames = j["frames"].get<std::string>();
+        // "all" is how configToJson records every frame, so a package's recorded settings bake again.
+        if (j.contains("frames")) c.frames = j["frames"].get<std::string>() == "all" ? "" : j["frames"].get<std::string>();
+        if (j.contains("scene")) c.scene.scene_path = j["scene"].get<std::string>();
+        if (j.contains("camera")) {
+            const std::vector<double> camera = j["camera"].get<std::vector<double>>();
+            if (camera.size() != 7) throw std::invalid_argument("camera needs 7 numbers: position, target, fov in degrees");
+            std::array<double, 7> values;
+            std::copy(camera.begin(), camera.end(), values.begin());
+            c.scene.camera = values;
+        }
         if (j.contains("size")) std::tie(c.scene.width, c.scene.height) = parseSize(j["size"].get<std::string>());
         if (j.contains("bins")) c.bins = j["bins"].get<int>();
         if (j.contains("t_lo")) c.t_lo = j["t_lo"].get<double>();
@@ -56,7 +67,11 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         if (j.contains("albedo")) c.albedo = j["albedo"].get<double>();
         if (j.contains("alpha_threshold_samples")) c.alpha_threshold_samples = j["alpha_threshold_samples"].get<int>();
         if (j.contains("seed")) c.seed = j["seed"].get<uint64_t>();
-        if (j.contains("up")) c.scene.up = j["up"].get<std::string>() == "z" ? render::UpAxis::Z : render::UpAxis::Y;
+        if (j.contains("up")) {
+            const std::string up = j["up"].get<std::string>();
+            if (up != "y" && up != "z") throw std::invalid_argument("up must be \"y\" or \"z\", not \"" + up + "\"");
+            c.scene.up = up == "z" ? render::UpAxis::Z : render::UpAxis::Y;
+        }
         if (j.contains("density_grid")) c.read.density_grid = j["density_grid"].get<std::string>();
         if (j.contains("temperature_grid")) c.read.temperature_grid = j["temperature_grid"].get<std::string>();
         if (j.contains("temperature_scale")) c.read.temperature_scale = j["temperature_scale"].get<double>();
@@ -104,7 +119,7 @@ std::string configToJson(const BakeConfig& c) {
     j["frames"] = c.frames.empty() ? "all" : c.frames;
     j["size"] = std::to_string(c.scene.width) + "x" + std::to_string(c.scene.height);
     j["up"] = c.scene.up == render::UpAxis::Z ? "z" : "y";
-    j["scene"] = c.scene.scene_path;
+    if (!c.scene.scene_path.empty()) j["scene"] = c.scene.scene_path;
     if (c.scene.camera) j["camera"] = *c.scene.camera;
     j["density_grid"] = c.read.density_grid;
     j["temperature_grid"] = c.read.temperature_grid;

@@ -132,6 +132,8 @@ TEST(BakeConfig, ErrorsNameTheFileAndTheProblem) {
                 "geometric");
     expectError(R"({"axes": {"smoke_extinction": {"min": 1, "max": 2}}})", "count");
     expectError(R"({"trace": {"step_voxels": 0}})", "trace");
+    expectError(R"({"up": "x"})", "up");
+    expectError(R"({"camera": [0, 0, 10, 0, 0, 0]})", "camera");
 
     BakeConfig c;
     try {
@@ -154,6 +156,30 @@ TEST(BakeConfig, ConfigToJsonRecordsTheSettings) {
     EXPECT_EQ(j.at("size"), "256x256");
     EXPECT_EQ(j.at("trace").at("photons_primary"), c.trace.photons_primary);
     EXPECT_EQ(nlohmann::json::parse(configToJson(BakeConfig())).at("frames"), "all") << "empty frames = all";
+}
+
+// The settings a package records (provenance.settings) are a valid bake.json that gives the same
+// settings back, so a package can be baked again from what it says about itself.
+TEST(BakeConfig, RecordedSettingsBakeAgain) {
+    TempDir dir;
+    BakeConfig c;
+    c.frames = "2-5";
+    c.seed = 9;
+    c.scene.width = 64;
+    c.scene.up = render::UpAxis::Z;
+    c.scene.scene_path = "shot.gltf";
+    c.scene.camera = std::array<double, 7>{1, 2, 3, 0, 0, 0, 40};
+    c.axes = {{1.0, 1.5}, {2.0, 3.0}, {0.5}};
+    c.trace.footprint_samples_per_axis = 4;
+    c.compression.max_rank = 12;
+    const std::string recorded = configToJson(c);
+    BakeConfig again;
+    applyConfigFile(again, writeConfig(dir, recorded));
+    EXPECT_EQ(configToJson(again), recorded);
+
+    BakeConfig all;
+    applyConfigFile(all, writeConfig(dir, configToJson(BakeConfig())));
+    EXPECT_EQ(all.frames, "") << "\"all\" reads back as every frame";
 }
 
 }  // namespace
