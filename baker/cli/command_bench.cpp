@@ -16,6 +16,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numeric>
+#include <optional>
 
 #include "bake/basis_tracer.h"
 #include "bake/bake_pipeline.h"
@@ -105,19 +106,20 @@ double maxAlphaDifference(const std::vector<float>& rgba, const std::vector<floa
     return worst;
 }
 
-// A reference render kept on disk between bench runs (the sweep evaluates many
-// packages against the same looks). Keyed by everything the image depends on;
-// FNV-1a because the key only has to be stable, not cryptographic.
-std::filesystem::path referenceCachePath(const std::filesystem::path& dir, const std::string& key) {
+// Reference renders and exact alphas kept on disk between bench runs (the sweep
+// evaluates many packages against the same looks). Keyed by everything the data
+// depends on; FNV-1a because the key only has to be stable, not cryptographic.
+// An entry is: key length, key, one double, the floats.
+std::filesystem::path cachePath(const std::filesystem::path& dir, const std::string& kind, const std::string& key) {
     uint64_t h = 1469598103934665603ULL;
     for (unsigned char c : key) h = (h ^ c) * 1099511628211ULL;
     char name[40];
-    std::snprintf(name, sizeof name, "ref-%016llx.bin", static_cast<unsigned long long>(h));
-    return dir / name;
+    std::snprintf(name, sizeof name, "-%016llx.bin", static_cast<unsigned long long>(h));
+    return dir / (kind + name);
 }
 
-bool loadCachedReference(const std::filesystem::path& file, const std::string& key, render::ReferenceResult& out,
-                         int width, int height) {
+bool loadCached(const std::filesystem::path& file, const std::string& key, double& scalar, std::vector<float>& values) {
+    if (file.empty()) return false;
     std::ifstream in(file, std::ios::binary);
     if (!in) return false;
     uint64_t key_size = 0;
@@ -125,29 +127,25 @@ bool loadCachedReference(const std::filesystem::path& file, const std::string& k
     if (!in || key_size != key.size()) return false;
     std::string stored(key_size, '\0');
     in.read(stored.data(), static_cast<std::streamsize>(key_size));
-    if (stored != key) return false;  // a hash collision: render again
-    double noise = 0.0;
-    in.read(reinterpret_cast<char*>(&noise), sizeof noise);
-    std::vector<float> rgba(static_cast<size_t>(width) * height * 4);
-    in.read(reinterpret_cast<char*>(rgba.data()), static_cast<std::streamsize>(rgba.size() * sizeof(float)));
-    if (!in) return false;
-    out.image = {width, height, std::move(rgba)};
-    out.estimated_relative_rmse = noise;
-    return true;
+    if (stored != key) return false;  // a hash collision: compute again
+    in.read(reinterpret_cast<char*>(&scalar), sizeof scalar);
+    in.read(reinterpret_cast<char*>(values.data()), static_cast<std::streamsize>(values.size() * sizeof(float)));
+    return static_cast<bool>(in);
 }
 
 // Written to a temporary name and renamed, so an interrupted bench never leaves a truncated entry.
-void storeCachedReference(const std::filesystem::path& file, const std::string& key, const render::ReferenceResult& r) {
+void storeCached(const std::filesystem::path& file, const std::string& key, double scalar,
+                 const std::vector<float>& values) {
+    if (file.empty()) return;
     const std::filesystem::path tmp = file.string() + ".tmp";
     {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
         const uint64_t key_size = key.size();
         out.write(reinterpret_cast<const char*>(&key_size), sizeof key_size);
         out.write(key.data(), static_cast<std::streamsize>(key.size()));
-        out.write(reinterpret_cast<const char*>(&r.estimated_relative_rmse), sizeof r.estimated_relative_rmse);
-        out.write(reinterpret_cast<const char*>(r.image.rgba.data()),
-                  static_cast<std::streamsize>(r.image.rgba.size() * sizeof(float)));
-        if (!out) throw std::runtime_error(tmp.string() + ": cannot write the reference cache entry");
+        out.write(reinterpret_cast<const char*>(&scalar), sizeof scalar);
+        out.write(reinterpret_cast<const char*>(values.data()), static_cast<std::streamsize>(values.size() * sizeof(float)));
+        if (!out) throw std::runtime_error(tmp.string() + ": cannot write the bench cache entry");
     }
     std::filesystem::rename(tmp, file);
 }
@@ -221,7 +219,7 @@ void registerBenchCommand(CLI::App& app) {
         ->capture_default_str()
         ->check(CLI::Range(1, 16));
     cmd->add_option("--reference-cache", args->reference_cache,
-                    "folder that keeps reference renders between runs (same frame, look, size, spp and seed)");
+                    "folder that keeps reference renders and exact alphas between runs (same frame, look, size, spp, seed)");
     cmd->add_option("--csv", args->csv_out, "append the summary as one row of this CSV file");
     cmd->add_option("--label", args->label, "the row's label in --csv")->default_str("the package's file name");
     cmd->add_option("--bake-report", args->bake_report,
@@ -263,8 +261,9 @@ void registerBenchCommand(CLI::App& app) {
         int done = 0;
         for (int frame : frames) {
             const render::Medium medium = bake::mediumFromFrame(sequence.load(frame));
-            bar.update(double(done) / total, "frame " + std::to_string(frame) + ": exact alpha");
-            const render::FootprintTransmittance exact_alpha(medium, camera, d.bins, args->alpha_rays);
+            // Built on the first look whose exact alpha is not cached: marching 8x8 rays per
+            // pixel is the slow part of a cached bench run.
+            std::optional<render::FootprintTransmittance> exact_alpha;
             const basis::FrameFactors factors = package.loadFrame(frame);
             const std::vector<float> u = basis::decodeU(factors);
             bake::FrameBasis full;
@@ -293,35 +292,48 @@ void registerBenchCommand(CLI::App& app) {
                 render::ReferenceSettings rs;
                 rs.samples_per_pixel = args->spp;
                 rs.seed = args->seed * 7919 + static_cast<uint64_t>(done);
+                const std::string size_key = "frame " + std::to_string(frame) + " size " + std::to_string(d.width) +
+                                             "x" + std::to_string(d.height);
+                const std::string scene_key = " bins " + std::to_string(d.bins.t_lo) + " " + std::to_string(d.bins.t_hi) +
+                                              " " + std::to_string(d.bins.count) + " camera " + cam.dump();
+                const std::filesystem::path cache_dir = args->reference_cache;
                 render::ReferenceResult ref;
-                const std::string cache_key = "frame " + std::to_string(frame) + " size " + std::to_string(d.width) +
-                                              "x" + std::to_string(d.height) + " spp " + std::to_string(rs.samples_per_pixel) +
-                                              " seed " + std::to_string(rs.seed) + " bins " +
-                                              std::to_string(d.bins.t_lo) + " " + std::to_string(d.bins.t_hi) + " " +
-                                              std::to_string(d.bins.count) + " camera " + cam.dump() + " look " +
-                                              lookToJson(look);
-                const std::filesystem::path cache_file =
-                    args->reference_cache.empty() ? std::filesystem::path()
-                                                  : referenceCachePath(args->reference_cache, cache_key);
-                if (cache_file.empty() || !loadCachedReference(cache_file, cache_key, ref, d.width, d.height)) {
+                ref.image = {d.width, d.height, std::vector<float>(static_cast<size_t>(d.pixelCount()) * 4)};
+                const std::string ref_key = size_key + " spp " + std::to_string(rs.samples_per_pixel) + " seed " +
+                                            std::to_string(rs.seed) + scene_key + " look " + lookToJson(look);
+                const std::filesystem::path ref_file = cache_dir.empty() ? cache_dir : cachePath(cache_dir, "ref", ref_key);
+                if (!loadCached(ref_file, ref_key, ref.estimated_relative_rmse, ref.image.rgba)) {
                     ref = render::renderReference(medium, model, camera, rs);
-                    if (!cache_file.empty()) storeCachedReference(cache_file, cache_key, ref);
+                    storeCached(ref_file, ref_key, ref.estimated_relative_rmse, ref.image.rgba);
+                }
+                const ExtinctionParams e = look.extinction();
+                char extinction_key[128];
+                std::snprintf(extinction_key, sizeof extinction_key, " alpha rays %d T_c %.17g k_s %.17g k_f %.17g",
+                              args->alpha_rays, e.temperature_threshold, e.smoke_extinction, e.flame_extinction);
+                const std::string alpha_key = size_key + scene_key + extinction_key;
+                const std::filesystem::path alpha_file = cache_dir.empty() ? cache_dir : cachePath(cache_dir, "alpha", alpha_key);
+                std::vector<float> exact(static_cast<size_t>(d.pixelCount()));
+                double unused = 0.0;
+                if (!loadCached(alpha_file, alpha_key, unused, exact)) {
+                    if (!exact_alpha) exact_alpha.emplace(medium, camera, d.bins, args->alpha_rays);
+                    exact = exact_alpha->alpha(e);
+                    storeCached(alpha_file, alpha_key, 0.0, exact);
                 }
                 const render::RenderImage pkg = toImage(d, rgba);
-                const double e = render::relativeRmse(pkg, ref.image);
-                const double a = maxAlphaDifference(rgba, exact_alpha.alpha(look.extinction()));
+                const double e_rgb = render::relativeRmse(pkg, ref.image);
+                const double a = maxAlphaDifference(rgba, exact);
                 const double a_traced = render::maxAlphaError(pkg, ref.image);
-                rmse.push_back(e);
+                rmse.push_back(e_rgb);
                 ref_noise.push_back(ref.estimated_relative_rmse);
                 alpha_error.push_back(a);
                 // Subtract the reference's own noise (independent of the package's error) in quadrature.
-                corrected.push_back(std::sqrt(std::max(0.0, e * e - ref.estimated_relative_rmse * ref.estimated_relative_rmse)));
+                corrected.push_back(std::sqrt(std::max(0.0, e_rgb * e_rgb - ref.estimated_relative_rmse * ref.estimated_relative_rmse)));
                 ordered_json row = {{"frame", frame},
                                     {"look", lookToJson(look)},
                                     {"T_c", look.temperature_threshold},
                                     {"k_s", look.smoke_extinction},
                                     {"k_f", look.flame_extinction},
-                                    {"relative_rmse", e},
+                                    {"relative_rmse", e_rgb},
                                     {"reference_noise", ref.estimated_relative_rmse},
                                     {"noise_corrected_rmse", corrected.back()},
                                     {"max_alpha_error", a},

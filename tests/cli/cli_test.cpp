@@ -282,7 +282,7 @@ TEST(Cli, BakeReportAndBenchCsvWithReferenceCache) {
         EXPECT_EQ(entry.path().extension(), ".bin") << "no temporary left: " << entry.path();
         ++cached;
     }
-    EXPECT_EQ(cached, 2u) << "one reference per look";
+    EXPECT_EQ(cached, 4u) << "one reference and one exact alpha per look";
     r = run(dir, bench + "--label second --json second.json");
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
 
