@@ -52,7 +52,12 @@ struct TraceSettings {
     int photons_per_order = 131072;   // photons for each further scattering order
     int max_orders = 12;              // scattering orders at most
     double order_tolerance = 0.002;   // stop when an order adds less than this fraction
-    double step_voxels = 0.5;         // march step in voxels
+    // March step in voxels (camera rays and light depths; photon tracks use >= 1 voxel).
+    // 0.25 because at 0.5 the midpoint rule misses silhouette optical depths by enough to
+    // move alpha by 0.0116 against the same rays marched at 0.1 (frame 3, 128x128, k_s 15);
+    // 0.25: 0.0018, 0.1: 0.0006, at no measurable bake-time cost (camera rays are cheap
+    // next to the photon passes). Relative RMSE of that look: 2.07% / 1.92% / 1.80%.
+    double step_voxels = 0.25;
     // Camera rays per pixel along each axis of its footprint (n x n, cell-centred): a
     // pixel is the mean over its footprint, and alpha = mean(1 - exp(-tau)) needs the
     // optical depths of each ray, which are all stored. 3 x 3 because the footprint

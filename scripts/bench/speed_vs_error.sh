@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Speed against error (issue 7): bakes the sequence once per setting, varying one
 # knob at a time from the defaults — SVD rank, photon budget, scattered-light cell
-# size, parameter-grid density per axis, image size, alpha footprint rays — and
+# size, march step, parameter-grid density per axis, image size, alpha footprint rays — and
 # measures each package with `firelook bench` on the same random looks (references
 # cached, so each look is path-traced once per image size). Output in OUT:
 #   sweep.csv        one row per setting: bake s, peak MiB, package bytes,
@@ -25,6 +25,7 @@ if [[ -z "${FIRELOOK:-}" ]]; then "$root/scripts/build.sh" release firelook >/de
 mkdir -p "$out/packages" "$out/configs"
 rm -f "$out/sweep.csv"
 
+# Most telling first, so a sweep cut short still has the main knobs.
 # label | bake.json fragment (merged into {"size", "up", "frames"}) [| reference spp: at 256x256 a
 # quarter of the samples keeps the reference cost of one 128x128 image; its noise is in the row]
 settings=(
@@ -33,24 +34,26 @@ settings=(
   "rank-8|{\"compression\": {\"max_rank\": 8}}"
   "rank-16|{\"compression\": {\"max_rank\": 16}}"
   "rank-32|{\"compression\": {\"max_rank\": 32}}"
-  "target-0.01|{\"compression\": {\"target_relative_error\": 0.01}}"
-  "target-0.001|{\"compression\": {\"target_relative_error\": 0.001}}"
   "photons-x0.25|{\"trace\": {\"photons_primary\": 65536, \"photons_per_order\": 32768}}"
   "photons-x0.5|{\"trace\": {\"photons_primary\": 131072, \"photons_per_order\": 65536}}"
-  "photons-x2|{\"trace\": {\"photons_primary\": 524288, \"photons_per_order\": 262144}}"
-  "cells-2vox|{\"trace\": {\"cell_voxels\": 2}}"
-  "cells-8vox|{\"trace\": {\"cell_voxels\": 8}}"
   "Tc-3|{\"axes\": {\"temperature_threshold\": {\"min\": 1.0, \"max\": 2.0, \"count\": 3}}}"
-  "Tc-11|{\"axes\": {\"temperature_threshold\": {\"min\": 1.0, \"max\": 2.0, \"count\": 11}}}"
   "ks-2|{\"axes\": {\"smoke_extinction\": [2, 16]}}"
-  "ks-7|{\"axes\": {\"smoke_extinction\": {\"min\": 2, \"max\": 16, \"count\": 7, \"spacing\": \"geometric\"}}}"
   "kf-2|{\"axes\": {\"flame_extinction\": [0.5, 4]}}"
-  "kf-5|{\"axes\": {\"flame_extinction\": {\"min\": 0.5, \"max\": 4, \"count\": 5, \"spacing\": \"geometric\"}}}"
   "footprint-1|{\"trace\": {\"footprint_samples_per_axis\": 1}}"
   "footprint-2|{\"trace\": {\"footprint_samples_per_axis\": 2}}"
   "footprint-4|{\"trace\": {\"footprint_samples_per_axis\": 4}}"
+  "step-0.5|{\"trace\": {\"step_voxels\": 0.5}}"
   "size-64|{\"size\": \"64x64\"}"
+  "target-0.01|{\"compression\": {\"target_relative_error\": 0.01}}"
+  "photons-x2|{\"trace\": {\"photons_primary\": 524288, \"photons_per_order\": 262144}}"
+  "cells-8vox|{\"trace\": {\"cell_voxels\": 8}}"
   "size-256|{\"size\": \"256x256\"}|256"
+  "Tc-11|{\"axes\": {\"temperature_threshold\": {\"min\": 1.0, \"max\": 2.0, \"count\": 11}}}"
+  "ks-7|{\"axes\": {\"smoke_extinction\": {\"min\": 2, \"max\": 16, \"count\": 7, \"spacing\": \"geometric\"}}}"
+  "kf-5|{\"axes\": {\"flame_extinction\": {\"min\": 0.5, \"max\": 4, \"count\": 5, \"spacing\": \"geometric\"}}}"
+  "step-0.1|{\"trace\": {\"step_voxels\": 0.1}}"
+  "target-0.001|{\"compression\": {\"target_relative_error\": 0.001}}"
+  "cells-2vox|{\"trace\": {\"cell_voxels\": 2}}"
 )
 if [[ "${QUICK:-0}" == 1 ]]; then
   few='"trace": {"photons_primary": 4000, "photons_per_order": 2000, "max_orders": 3}'
