@@ -12,30 +12,6 @@
 
 namespace firelook::package::test {
 
-TempDir::TempDir() {
-    static std::atomic<unsigned> counter{0};
-    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string test_name = test ? test->name() : "global";
-    std::replace(test_name.begin(), test_name.end(), '/', '_');  // parameterised names hold a '/'
-    const std::string name = "firelook-package-" + test_name + "-" + std::to_string(std::random_device{}()) +
-                             "-" + std::to_string(counter++);
-    path_ = std::filesystem::temp_directory_path() / name;
-    std::filesystem::create_directory(path_);  // one level, so the destructor removes all it made
-}
-
-TempDir::~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-}
-
-std::vector<std::string> TempDir::entries() const {
-    std::vector<std::string> names;
-    for (const auto& entry : std::filesystem::directory_iterator(path_))
-        names.push_back(entry.path().filename());
-    std::sort(names.begin(), names.end());
-    return names;
-}
-
 std::vector<std::byte> readFile(const std::filesystem::path& file) {
     std::ifstream in(file, std::ios::binary);
     if (!in) throw std::runtime_error("test: cannot read " + file.string());

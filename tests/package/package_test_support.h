@@ -1,6 +1,6 @@
 #pragma once
 
-// Helpers shared by the package tests: a self-removing temporary folder, whole-file I/O, test
+// Helpers shared by the package tests (the temporary folder is tests/support/temp_dir.h): whole-file I/O, test
 // data, and re-sealing a deliberately edited package (recomputing its checksums) so a test can
 // craft an inconsistent file that is not caught by a checksum first.
 
@@ -14,25 +14,13 @@
 #include <string>
 #include <vector>
 
+#include "../support/temp_dir.h"
 #include "package/error.h"
 #include "package/format.h"
 
 namespace firelook::package::test {
 
-class TempDir {
-  public:
-    TempDir();
-    ~TempDir();
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    const std::filesystem::path& path() const { return path_; }
-    std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
-    // Every entry name in the folder, sorted.
-    std::vector<std::string> entries() const;
-
-  private:
-    std::filesystem::path path_;
-};
+using firelook::testing::TempDir;
 
 std::vector<std::byte> readFile(const std::filesystem::path& file);
 void writeFile(const std::filesystem::path& file, std::span<const std::byte> bytes);

@@ -1,11 +1,14 @@
-// A fresh folder per test under the system temp folder, removed when the test ends. Shared by
-// every test suite (included as "../support/temp_dir.h").
+// A fresh folder under the system temp folder, removed when the object dies. Named after the
+// running test (when there is one), the process and a counter, so several in one test, and
+// parallel ctest processes, never share a folder. Shared by every test suite (included as
+// "../support/temp_dir.h").
 #pragma once
 
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -15,10 +18,12 @@ namespace firelook::testing {
 class TempDir {
   public:
     TempDir() {
+        static std::atomic<unsigned> counter{0};
         const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path_ =
-            std::filesystem::temp_directory_path() / ("firelook-" + std::string(info->test_suite_name()) +
-                                                      "-" + info->name() + "-" + std::to_string(::getpid()));
+        std::string test = info ? std::string(info->test_suite_name()) + "-" + info->name() : "no-test";
+        std::replace(test.begin(), test.end(), '/', '_');  // parameterised names hold a '/'
+        path_ = std::filesystem::temp_directory_path() /
+                ("firelook-" + test + "-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
         std::filesystem::remove_all(path_);
         std::filesystem::create_directories(path_);
     }

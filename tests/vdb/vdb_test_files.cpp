@@ -8,19 +8,6 @@
 
 namespace firelook::vdb::testing {
 
-TempDir::TempDir() {
-    static std::atomic<int> counter{0};
-    path_ = std::filesystem::temp_directory_path() /
-            ("firelook_vdb_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-}
-
-TempDir::~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-}
-
 openvdb::FloatGrid::Ptr makeGrid(const std::string& name, const Voxels& voxels, double voxel_size,
                                  float background) {
     openvdb::initialize();

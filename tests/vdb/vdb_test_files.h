@@ -1,5 +1,5 @@
 #pragma once
-// Helpers for the VDB tests: a per-test temporary folder and small crafted VDB files.
+// Helpers for the VDB tests: small crafted VDB files (the temporary folder is tests/support/temp_dir.h).
 
 #include <openvdb/openvdb.h>
 
@@ -8,22 +8,11 @@
 #include <utility>
 #include <vector>
 
+#include "../support/temp_dir.h"
+
 namespace firelook::vdb::testing {
 
-// A fresh folder under the system temp dir, removed with everything in it on destruction.
-class TempDir {
-  public:
-    TempDir();
-    ~TempDir();
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-
-    const std::filesystem::path& path() const { return path_; }
-    std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
-
-  private:
-    std::filesystem::path path_;
-};
+using TempDir = firelook::testing::TempDir;
 
 using Voxels = std::vector<std::pair<openvdb::Coord, float>>;
 
