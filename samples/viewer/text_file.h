@@ -1,0 +1,14 @@
+// Whole-file text I/O for looks and keyframe files. Writes are atomic (temporary file beside the
+// target, then rename) so a crash never leaves a half-written look behind.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace firelook::viewer {
+
+// Throws ViewerError naming the file.
+std::string readTextFile(const std::filesystem::path& path);
+void writeTextFileAtomic(const std::filesystem::path& path, const std::string& text);
+
+}  // namespace firelook::viewer

@@ -1,0 +1,241 @@
+// The sample viewer in batch mode (samples/viewer, README "Headless mode"), run under Xvfb:
+//  - its CPU-path screenshot equals `firelook render` of the same package, frame and look;
+//  - its GPU path equals its CPU path;
+//  - a keyframe file plays through fl_instance_set_keyframes (a key's frame shows the key's look);
+//  - a sequence export writes every baked frame;
+//  - the UI screenshot has the window's size;
+//  - a missing or corrupt package fails with one line naming the file (no display needed).
+// The package is baked by the ctest fixture viewer.bake_package (or here, when run by hand).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include "../support/temp_dir.h"
+#include "image/image_io.h"
+
+namespace {
+
+using firelook::image::ImageRGBA;
+
+struct ProcessResult {
+    int exit_code = -1;
+    std::string output;  // stdout and stderr
+};
+
+std::string quote(const std::string& s) { return "'" + s + "'"; }
+
+ProcessResult runShell(const std::string& command, const std::filesystem::path& log) {
+    const int status = std::system((command + " > " + quote(log.string()) + " 2>&1").c_str());
+    std::ifstream in(log);
+    std::stringstream text;
+    text << in.rdbuf();
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
+}
+
+bool onPath(const char* program) {
+    return std::system(("command -v " + std::string(program) + " > /dev/null 2>&1").c_str()) == 0;
+}
+
+// How to reach an X server: our own Xvfb through xvfb-run when it exists (CI), else the DISPLAY
+// the tests were started under. Empty optional: none, the test skips.
+std::optional<std::string> displayPrefix() {
+    if (onPath("xvfb-run")) return std::string("xvfb-run -a -s '-screen 0 1280x800x24' ");
+    const char* display = std::getenv("DISPLAY");
+    if (display && *display) return std::string();
+    return std::nullopt;
+}
+
+const std::string& package() {
+    static const std::string path = [] {
+        if (!std::filesystem::exists(FIRELOOK_VIEWER_PACKAGE)) {
+            const std::string command = quote(FIRELOOK_CLI) + " " + FIRELOOK_VIEWER_BAKE_ARGS + " > /dev/null 2>&1";
+            EXPECT_EQ(std::system(command.c_str()), 0) << command;
+        }
+        return std::string(FIRELOOK_VIEWER_PACKAGE);
+    }();
+    return path;
+}
+
+class Viewer : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        const auto prefix = displayPrefix();
+        if (!prefix) GTEST_SKIP() << "no X server: neither xvfb-run nor DISPLAY (install xvfb)";
+        prefix_ = *prefix;
+        ASSERT_TRUE(std::filesystem::exists(package())) << "the fixture package was not baked";
+    }
+
+    // Runs the viewer in batch mode under the X server; returns its exit code and output.
+    ProcessResult viewer(const std::string& arguments) {
+        return runShell("LIBGL_ALWAYS_SOFTWARE=1 " + prefix_ + quote(FIRELOOK_VIEWER) + " " + arguments,
+                        dir_ / "viewer.log");
+    }
+
+    ImageRGBA screenshot(const std::string& name, const std::string& arguments) {
+        const std::string out = (dir_ / name).string();
+        const ProcessResult r = viewer(quote(package()) + " " + arguments + " --screenshot " + quote(out));
+        EXPECT_EQ(r.exit_code, 0) << r.output;
+        return firelook::image::readImage(out);
+    }
+
+    ImageRGBA cliRender(const std::string& name, int frame, const std::string& look) {
+        const std::string out = (dir_ / name).string();
+        const ProcessResult r = runShell(quote(FIRELOOK_CLI) + " render " + quote(package()) + " --frame " +
+                                   std::to_string(frame) + (look.empty() ? "" : " --look " + quote(look)) +
+                                   " --out " + quote(out),
+                               dir_ / "cli.log");
+        EXPECT_EQ(r.exit_code, 0) << r.output;
+        return firelook::image::readImage(out);
+    }
+
+    std::string prefix_;
+    firelook::testing::TempDir dir_;
+};
+
+double peakRgb(const ImageRGBA& image) {
+    double peak = 0.0;
+    for (size_t i = 0; i < image.pixels.size(); ++i)
+        if (i % 4 != 3) peak = std::max(peak, static_cast<double>(image.pixels[i]));
+    return peak;
+}
+
+// |a - b| <= relative |b| + absolute * peak(b) for RGB, <= alpha for alpha, at every value.
+void expectClose(const ImageRGBA& a, const ImageRGBA& b, double relative, double absolute, double alpha,
+                 const std::string& what) {
+    ASSERT_EQ(a.width, b.width) << what;
+    ASSERT_EQ(a.height, b.height) << what;
+    const double peak = peakRgb(b);
+    ASSERT_GT(peak, 0.0) << what << ": black image";
+    for (size_t i = 0; i < b.pixels.size(); ++i) {
+        const double x = a.pixels[i], y = b.pixels[i];
+        const double tolerance = i % 4 == 3 ? alpha : relative * std::abs(y) + absolute * peak;
+        ASSERT_LE(std::abs(x - y), tolerance)
+            << what << ": pixel " << i / 4 << " channel " << i % 4 << ": " << x << " vs " << y;
+    }
+}
+
+const std::string kLooks = FIRELOOK_LOOKS_DIR;
+
+// `firelook render` writes half-float EXR; the viewer's screenshot is float. Half rounding is at
+// most 2^-11 relative (normal halves) and 2^-25 absolute (subnormals, << 1e-6 of the peak); the
+// viewer's CPU image is the world's, which equals basis::renderLookImage within 1e-5 of the peak
+// (tests/world/baked_package_test.cpp). Alpha is in [0, 1]: within 2^-11.
+TEST_F(Viewer, CpuScreenshotEqualsFirelookRender) {
+    // Every emission form: the package default, stops (fireball), a preset (smoky), and per bin.
+    const std::string bins_look = (dir_ / "bins.json").string();
+    {
+        std::ofstream out(bins_look);
+        out << R"({"format": "firelook-look", "version": 1, "temperature_threshold": 1.5,)"
+            << R"( "smoke_extinction": 5, "flame_extinction": 2, "albedo": 0.7, "emission": {"bins": [)";
+        for (int b = 0; b < 16; ++b)  // the fixture bakes 16 bins
+            out << (b ? ", " : "") << "[" << (b < 8 ? 0.0 : 0.9 * (b - 7)) << ", " << (b < 10 ? 0.0 : 0.4 * (b - 9))
+                << ", " << (b < 13 ? 0.0 : 0.1 * (b - 12)) << "]";
+        out << R"(]}, "light_irradiance": [[1.5, 1.4, 1.3]]})";
+    }
+    for (int frame : {5, 6})
+        for (const std::string& look :
+             {std::string(), kLooks + "/fireball.json", kLooks + "/smoky.json", bins_look}) {
+            const std::string args = "--frame " + std::to_string(frame) + " --frames-to-run 3 --path cpu" +
+                                     (look.empty() ? "" : " --look " + quote(look));
+            const ImageRGBA viewer_image = screenshot("viewer.exr", args);
+            const ImageRGBA cli_image = cliRender("cli.exr", frame, look);
+            expectClose(viewer_image, cli_image, std::ldexp(1.0, -11), 1e-5, std::ldexp(1.0, -11),
+                        "frame " + std::to_string(frame) + " look '" + look + "'");
+        }
+}
+
+// The same half-float U and float z on both paths; the sums differ only in order (the shader
+// takes dot products of four rank components, the CPU adds one at a time; the shader may fuse
+// multiply-adds) and the CPU computes each footprint sample's 1 - exp(-tau) in double where the
+// shader uses float. Measured differences are ~1e-7 of the peak; the tolerance has 100x margin.
+TEST_F(Viewer, GpuPathEqualsCpuPath) {
+    for (int frame : {5, 6})
+        for (const std::string& look : {std::string(), kLooks + "/inferno.json"}) {
+            const std::string args = "--frame " + std::to_string(frame) + " --frames-to-run 3" +
+                                     (look.empty() ? "" : " --look " + quote(look));
+            const ImageRGBA gpu = screenshot("gpu.exr", args + " --path gpu");
+            const ImageRGBA cpu = screenshot("cpu.exr", args + " --path cpu");
+            expectClose(gpu, cpu, 1e-5, 1e-5, 1e-5, "frame " + std::to_string(frame) + " look '" + look + "'");
+        }
+}
+
+// Keyframes from a file: at a key's own frame the interpolated look is that key's look, so the
+// image equals `firelook render` with the key's look file. Also checks that playing (--play) runs.
+TEST_F(Viewer, KeyframeFilePlays) {
+    std::ifstream fireball(kLooks + "/fireball.json"), smoky(kLooks + "/smoky.json");
+    std::stringstream a, b;
+    a << fireball.rdbuf();
+    b << smoky.rdbuf();
+    const auto keys = dir_ / "keys.json";
+    std::ofstream(keys) << R"({"format": "firelook-viewer-keyframes", "version": 1, "keys": [)"
+                        << R"({"frame": 5, "look": )" << a.str() << "}, " << R"({"frame": 6, "look": )" << b.str()
+                        << "}]}";
+    const ImageRGBA shown = screenshot("keyed.exr", "--keyframes " + quote(keys.string()) +
+                                                        " --frame 6 --frames-to-run 2 --path gpu");
+    const ImageRGBA want = cliRender("smoky.exr", 6, kLooks + "/smoky.json");
+    expectClose(shown, want, std::ldexp(1.0, -11) + 1e-5, 2e-5, std::ldexp(1.0, -11) + 1e-5, "key at frame 6");
+
+    const ProcessResult played = viewer(quote(package()) + " --keyframes " + quote(keys.string()) +
+                              " --play --frames-to-run 30 --path gpu --timings");
+    EXPECT_EQ(played.exit_code, 0) << played.output;
+    EXPECT_NE(played.output.find("timings: median of 30 frames"), std::string::npos) << played.output;
+}
+
+// Sequence export writes one file per baked frame, each equal to `firelook render` of that frame
+// (both half-float EXR here: within two half roundings).
+TEST_F(Viewer, ExportSequenceWritesEveryFrame) {
+    const std::string pattern = (dir_ / "out" / "fire_####.exr").string();
+    std::filesystem::create_directories(dir_ / "out");
+    const ProcessResult r = viewer(quote(package()) + " --look " + quote(kLooks + "/inferno.json") +
+                                   " --frames-to-run 2 --path gpu --export-sequence " + quote(pattern));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    for (int frame : {5, 6}) {
+        const ImageRGBA exported = firelook::image::readImage(dir_ / "out" / ("fire_000" + std::to_string(frame) + ".exr"));
+        const ImageRGBA want = cliRender("cli.exr", frame, kLooks + "/inferno.json");
+        expectClose(exported, want, std::ldexp(1.0, -10), 1e-5, std::ldexp(1.0, -10), "frame " + std::to_string(frame));
+    }
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir_ / "out"), std::filesystem::directory_iterator()), 2);
+}
+
+TEST_F(Viewer, UiScreenshotHasTheWindowSize) {
+    const auto out = dir_ / "ui.png";
+    const ProcessResult r = viewer(quote(package()) + " --frames-to-run 3 --size 900x600 --ui-screenshot " + quote(out.string()));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const ImageRGBA ui = firelook::image::readImage(out);
+    EXPECT_EQ(ui.width, 900);
+    EXPECT_EQ(ui.height, 600);
+}
+
+// No X server needed: the package is opened before any window.
+TEST(ViewerErrors, MissingOrCorruptPackageNamesTheFile) {
+    firelook::testing::TempDir dir;
+    const std::string missing = (dir / "missing.firelook").string();
+    ProcessResult r = runShell(quote(FIRELOOK_VIEWER) + " " + quote(missing) + " --frames-to-run 1", dir / "log");
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.output.find("firelook_viewer: error: "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(missing), std::string::npos) << r.output;
+
+    // A package cut in half, and a file that is no package at all.
+    std::ifstream in(package(), std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(bytes.size(), 1000u);
+    const std::string truncated = (dir / "truncated.firelook").string();
+    std::ofstream(truncated, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    const std::string garbage = (dir / "garbage.firelook").string();
+    std::ofstream(garbage) << "not a package\n";
+    for (const std::string& file : {truncated, garbage}) {
+        r = runShell(quote(FIRELOOK_VIEWER) + " " + quote(file) + " --frames-to-run 1", dir / "log");
+        EXPECT_EQ(r.exit_code, 1) << file;
+        EXPECT_NE(r.output.find(file), std::string::npos) << r.output;
+        EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << "one line: " << r.output;
+    }
+}
+
+}  // namespace
