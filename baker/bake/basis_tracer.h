@@ -47,7 +47,12 @@ struct BasisModel {
 };
 
 struct TraceSettings {
-    int cell_voxels = 4;              // coarse grid cell edge, in voxels, for Lbar
+    // Coarse grid cell edge, in voxels, for Lbar. 2 because the cells' smoothing of the
+    // scattered light is the largest error source left (scripts/bench/speed_vs_error.sh,
+    // frames 3 and 7 at 128x128, 14 looks: noise-corrected relative RMSE median / worst
+    // 1.05% / 3.27% with 4-voxel cells, 0.41% / 1.40% with 2); the cost, measured unloaded
+    // on frame 7 at 256x256: bake 26.5 -> 30.7 s, peak memory 651 -> 811 MiB.
+    int cell_voxels = 2;
     int photons_primary = 262144;     // photons for the primary sources
     int photons_per_order = 131072;   // photons for each further scattering order
     int max_orders = 12;              // scattering orders at most

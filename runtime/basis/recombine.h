@@ -25,13 +25,18 @@ void computeCoefficients(const BakeDescription& description, const FrameFactors&
 
 // rgba_out: pixels x 4, premultiplied linear RGBA, top row first. u_float is
 // decodeU(factors). Negative radiance (truncation ringing) is clamped to 0 and a
-// non-finite value can never be written.
+// non-finite value can never be written; alpha is in [0, 1] (NaN optical depth:
+// opaque). Throws std::invalid_argument when a span or the depth layers are too
+// short. Vectorised (AVX2 where the CPU has it), single-threaded; alpha's exp is
+// a polynomial, alpha within 1e-7 of the exact value (see recombine.cpp).
 void reconstructImage(const BakeDescription& description, const FrameFactors& factors,
                       std::span<const float> u_float, std::span<const float> z,
                       const ExtinctionParams& extinction, std::span<float> rgba_out);
 
-// alpha = 1 - exp(-(a O_a(T_c) + b O_b)) for one pixel; O_a interpolated linearly
-// in T_c between the alpha threshold samples.
+// alpha = mean over the footprint rays of 1 - exp(-(a O_a(T_c) + b O_b)) for one
+// pixel; O_a interpolated linearly in T_c between the alpha threshold samples.
+// Bit for bit the alpha reconstructImage writes. Throws std::invalid_argument for
+// a pixel out of range or depth layers too short.
 float pixelAlpha(const BakeDescription& description, const FrameFactors& factors, int pixel,
                  const ExtinctionParams& extinction);
 

@@ -21,6 +21,15 @@
 //     with one forward and one backward recursive pass (O(1) per pixel).
 //  flare = intensity * (sum_i tint_i ghost_i + halo_intensity * halo +
 //                       streak_intensity * streaks).
+// Computed at half resolution (what makes it cheap): the bright pass b is box-averaged over 2x2
+// pixels, the ghosts, halo and streaks above are evaluated at the centres of those blocks (same
+// centre, scales, fades, radii and decay length in full-resolution units, so every parameter
+// keeps its meaning), and the result is upsampled bilinearly (edges clamped). Energy and
+// placement stay (tests/world/lens_flare_test.cpp compares each part with the definition evaluated
+// at full resolution: energy within 5%, centroids within half a pixel for soft sources). What is
+// lost is detail finer than 2 pixels: a single bright pixel acts as if at its block's centre (up
+// to half a pixel away), its streak is about 3 pixels thick instead of 1, and its halo - which
+// shows the light near the image centre enlarged - can land a few pixels off.
 // The flare is returned as a separate RGBA image with alpha 0: it is light
 // added on top of everything (final = rgb + (1 - alpha) background + flare),
 // not part of the fire's coverage, so the fire image stays what
@@ -45,7 +54,14 @@ struct LensFlareSettings {
 };
 
 // Floats of scratch renderLensFlare needs for a width x height image.
-inline size_t lensFlareScratchFloats(int width, int height) { return static_cast<size_t>(width) * height * 6; }
+// (The half-resolution working images of lens_flare.cpp's Layout: three sets of RGB planes, the
+// bright pass as padded RGB0, and a few low-res rows.)
+inline size_t lensFlareScratchFloats(int width, int height) {
+    const size_t w = static_cast<size_t>(width > 0 ? width : 0);
+    const size_t w2 = (w + 1) / 2, h2 = (static_cast<size_t>(height > 0 ? height : 0) + 1) / 2;
+    const size_t padded_row = w2 + 2;
+    return 9 * w2 * h2 + 4 * padded_row * (h2 + 2) + 36 * padded_row + 11 * w2 + 32;
+}
 
 // rgba_in: width x height premultiplied RGBA; flare_out: the same size, RGBA
 // with A = 0; scratch: lensFlareScratchFloats() floats. Non-finite or negative

@@ -53,7 +53,7 @@ settings=(
   "kf-5|{\"axes\": {\"flame_extinction\": {\"min\": 0.5, \"max\": 4, \"count\": 5, \"spacing\": \"geometric\"}}}"
   "step-0.1|{\"trace\": {\"step_voxels\": 0.1}}"
   "target-0.001|{\"compression\": {\"target_relative_error\": 0.001}}"
-  "cells-2vox|{\"trace\": {\"cell_voxels\": 2}}"
+  "cells-4vox|{\"trace\": {\"cell_voxels\": 4}}"
 )
 if [[ "${QUICK:-0}" == 1 ]]; then
   few='"trace": {"photons_primary": 4000, "photons_per_order": 2000, "max_orders": 3}'
