@@ -1,11 +1,10 @@
 // firelook bake SEQUENCE -o OUT.firelook [--frames A-B] [--size WxH] [--bins N]
 //                [--scene S.gltf | --camera ...] [--config BAKE.json] [--seed S] [--report R.json]
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "bake/bake_pipeline.h"
+#include "cli/atomic_write.h"
 #include "cli/commands.h"
 #include "cli/interrupt.h"
 #include "cli/progress_bar.h"
@@ -31,9 +30,7 @@ void writeReportJson(const std::string& path, const bake::BakeReport& report) {
                                         {"package_bytes", report.package_bytes},
                                         {"uncompressed_basis_bytes", report.uncompressed_basis_bytes},
                                         {"frames", frames}};
-    const std::string tmp = path + ".tmp";
-    std::ofstream(tmp) << doc.dump(2) << "\n";
-    std::filesystem::rename(tmp, path);
+    writeFileAtomically(path, doc.dump(2) + "\n");
 }
 
 }  // namespace

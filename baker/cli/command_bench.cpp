@@ -24,6 +24,7 @@
 #include "basis/basis_package.h"
 #include "basis/look_renderer.h"
 #include "basis/recombine.h"
+#include "cli/atomic_write.h"
 #include "cli/commands.h"
 #include "cli/interrupt.h"
 #include "cli/progress_bar.h"
@@ -133,21 +134,17 @@ bool loadCached(const std::filesystem::path& file, const std::string& key, doubl
     return static_cast<bool>(in);
 }
 
-// Written to a temporary name and renamed, so an interrupted bench never leaves a truncated entry.
+// Written atomically, so an interrupted bench never leaves a truncated entry.
 void storeCached(const std::filesystem::path& file, const std::string& key, double scalar,
                  const std::vector<float>& values) {
     if (file.empty()) return;
-    const std::filesystem::path tmp = file.string() + ".tmp";
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        const uint64_t key_size = key.size();
-        out.write(reinterpret_cast<const char*>(&key_size), sizeof key_size);
-        out.write(key.data(), static_cast<std::streamsize>(key.size()));
-        out.write(reinterpret_cast<const char*>(&scalar), sizeof scalar);
-        out.write(reinterpret_cast<const char*>(values.data()), static_cast<std::streamsize>(values.size() * sizeof(float)));
-        if (!out) throw std::runtime_error(tmp.string() + ": cannot write the bench cache entry");
-    }
-    std::filesystem::rename(tmp, file);
+    const uint64_t key_size = key.size();
+    std::string bytes;
+    bytes.append(reinterpret_cast<const char*>(&key_size), sizeof key_size);
+    bytes.append(key);
+    bytes.append(reinterpret_cast<const char*>(&scalar), sizeof scalar);
+    bytes.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(float));
+    writeFileAtomically(file, bytes);
 }
 
 // One CSV row per bench run (header written when the file is new), for the speed-vs-error sweep.
@@ -386,11 +383,8 @@ void registerBenchCommand(CLI::App& app) {
                                        {"interpolation", median(e_interp)},
                                        {"compression", median(e_compress)}};
         std::printf("%s\n", summary.dump(2).c_str());
-        if (!args->json_out.empty()) {
-            const std::string tmp = args->json_out + ".tmp";
-            std::ofstream(tmp) << ordered_json{{"summary", summary}, {"looks", rows}}.dump(2) << "\n";
-            std::filesystem::rename(tmp, args->json_out);
-        }
+        if (!args->json_out.empty())
+            writeFileAtomically(args->json_out, ordered_json{{"summary", summary}, {"looks", rows}}.dump(2) + "\n");
         if (!args->csv_out.empty())
             appendCsvRow(args->csv_out,
                          args->label.empty() ? std::filesystem::path(args->package).stem().string() : args->label,
