@@ -8,9 +8,16 @@
 set -euo pipefail
 csv="$1"; out="$2"
 mkdir -p "$out"
-# Columns of sweep.csv (written by `firelook bench --csv`).
-col_rmse=6; col_worst=7
-declare -A cost_col=([runtime]=10 [package]=11 [bake]=12)
+# Columns of sweep.csv, found by their names in its header (`firelook bench --csv` owns the order).
+column() {
+  local n
+  n=$(head -n 1 "$csv" | tr ',' '\n' | grep -nx "$1" | cut -d: -f1)
+  [[ -n "$n" ]] || { echo "plot_speed_vs_error.sh: $csv has no column '$1'" >&2; exit 2; }
+  echo "$n"
+}
+col_rmse=$(column median_noise_corrected_rmse); col_worst=$(column worst_noise_corrected_rmse)
+col_raw=$(column median_relative_rmse); col_alpha=$(column max_alpha_error)
+declare -A cost_col=([runtime]=$(column median_image_ms) [package]=$(column package_bytes) [bake]=$(column bake_seconds))
 declare -A cost_name=([runtime]="image reconstruction, ms (128x128 unless the label says)"
                       [package]="package size, MB" [bake]="bake time, s")
 declare -A cost_scale=([runtime]=1 [package]=1e-6 [bake]=1)
@@ -19,8 +26,8 @@ declare -A cost_scale=([runtime]=1 [package]=1e-6 [bake]=1)
 for cost in runtime bake package; do
   c=${cost_col[$cost]}; scale=${cost_scale[$cost]}
   # Pareto front: keep a row unless another is no worse on both axes and better on one.
-  awk -F, -v c="$c" -v e="$col_rmse" -v s="$scale" 'NR > 1 && $c != "null" {
-      n++; label[n] = $1; x[n] = $c * s; y[n] = $e; worst[n] = $7; raw[n] = $3; alpha[n] = $8 }
+  awk -F, -v c="$c" -v e="$col_rmse" -v w="$col_worst" -v r="$col_raw" -v a="$col_alpha" -v s="$scale" \
+    'NR > 1 && $c != "null" { n++; label[n] = $1; x[n] = $c * s; y[n] = $e; worst[n] = $w; raw[n] = $r; alpha[n] = $a }
     END {
       for (i = 1; i <= n; i++) {
         dominated = 0
