@@ -85,10 +85,15 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         }
         if (j.contains("trace")) {
             const json& t = j["trace"];
-            checkKeys(t, {"cell_voxels", "photons_primary", "photons_per_order", "max_orders", "order_tolerance",
-                          "step_voxels", "footprint_samples_per_axis"},
+            checkKeys(t, {"cell_voxels", "max_cells_per_axis", "max_cell_optical_depth", "light_points_per_axis", "photons_primary",
+                          "photons_per_order", "max_orders", "order_tolerance", "step_voxels", "footprint_step",
+                          "footprint_samples_per_axis"},
                       "trace");
             c.trace.cell_voxels = t.value("cell_voxels", c.trace.cell_voxels);
+            c.trace.max_cells_per_axis = t.value("max_cells_per_axis", c.trace.max_cells_per_axis);
+            c.trace.max_cell_optical_depth = t.value("max_cell_optical_depth", c.trace.max_cell_optical_depth);
+            c.trace.light_points_per_axis = t.value("light_points_per_axis", c.trace.light_points_per_axis);
+            c.trace.footprint_step = t.value("footprint_step", c.trace.footprint_step);
             c.trace.photons_primary = t.value("photons_primary", c.trace.photons_primary);
             c.trace.photons_per_order = t.value("photons_per_order", c.trace.photons_per_order);
             c.trace.max_orders = t.value("max_orders", c.trace.max_orders);
@@ -105,13 +110,39 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         basis::validateAxes(c.axes);
         if (c.bins < 1 || c.bins > 256) throw std::invalid_argument("bins must be 1..256");
         if (!(c.albedo >= 0.0 && c.albedo <= 1.0)) throw std::invalid_argument("albedo must be in [0, 1]");
+        if (j.contains("memory_budget")) c.memory_budget_bytes = parseByteSize(j["memory_budget"].get<std::string>());
         if (c.trace.step_voxels <= 0.0 || c.trace.cell_voxels < 1 || c.trace.photons_primary < 1 ||
+            c.trace.max_cells_per_axis < 1 || !(c.trace.max_cell_optical_depth > 0.0) || c.trace.light_points_per_axis < 2 || !(c.trace.footprint_step >= 0.0) ||
             c.trace.photons_per_order < 1 || c.trace.footprint_samples_per_axis < 1 ||
             c.trace.footprint_samples_per_axis > 8)
             throw std::invalid_argument("trace settings must be positive");
     } catch (const std::exception& e) {
         throw std::runtime_error(file.string() + ": " + e.what());
     }
+}
+
+uint64_t parseByteSize(const std::string& text) {
+    // A number with an optional binary unit: 6GiB, 6G, 512MiB, 512M, 1048576.
+    std::size_t used = 0;
+    double value = 0.0;
+    try {
+        value = std::stod(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    std::string unit = text.substr(used);
+    if (unit.ends_with("iB")) unit.resize(unit.size() - 2);
+    else if (unit.ends_with("B")) unit.resize(unit.size() - 1);
+    double scale = 0.0;
+    if (unit.empty()) scale = 1.0;
+    else if (unit == "K" || unit == "k") scale = 1024.0;
+    else if (unit == "M") scale = 1024.0 * 1024.0;
+    else if (unit == "G") scale = 1024.0 * 1024.0 * 1024.0;
+    else if (unit == "T") scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
+    if (used == 0 || scale == 0.0 || !(value > 0.0) || !(value * scale < 1.8e19))
+        throw std::invalid_argument("memory size must be a positive number with an optional unit K, M, G or T "
+                                    "(binary, e.g. 6G or 6GiB), got \"" + text + "\"");
+    return static_cast<uint64_t>(value * scale);
 }
 
 std::string configToJson(const BakeConfig& c) {
@@ -134,7 +165,12 @@ std::string configToJson(const BakeConfig& c) {
                  {"smoke_extinction", c.axes.smoke_extinction},
                  {"flame_extinction", c.axes.flame_extinction}};
     j["alpha_threshold_samples"] = c.alpha_threshold_samples;
-    j["trace"] = {{"cell_voxels", c.trace.cell_voxels},         {"photons_primary", c.trace.photons_primary},
+    j["trace"] = {{"cell_voxels", c.trace.cell_voxels},
+                  {"max_cells_per_axis", c.trace.max_cells_per_axis},
+                  {"max_cell_optical_depth", c.trace.max_cell_optical_depth},
+                  {"light_points_per_axis", c.trace.light_points_per_axis},
+                  {"footprint_step", c.trace.footprint_step},
+                  {"photons_primary", c.trace.photons_primary},
                   {"photons_per_order", c.trace.photons_per_order}, {"max_orders", c.trace.max_orders},
                   {"order_tolerance", c.trace.order_tolerance},   {"step_voxels", c.trace.step_voxels},
                   {"footprint_samples_per_axis", c.trace.footprint_samples_per_axis}};

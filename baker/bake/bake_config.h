@@ -29,11 +29,16 @@ struct BakeConfig {
     TraceSettings trace;
     CompressionSettings compression;
     uint64_t seed = 1;
+    // Bytes the bake may hold at its peak (firelook bake --memory-budget); 0 = defaultMemoryBudget().
+    uint64_t memory_budget_bytes = 0;
 };
 
 // Applies the keys present in a bake.json; unknown keys are an error (a typo
 // in a bake setting should not silently bake the wrong thing).
 void applyConfigFile(BakeConfig& config, const std::filesystem::path& file);
+
+// "6G", "6GiB", "512M", "1048576": bytes. Throws std::invalid_argument naming the text.
+uint64_t parseByteSize(const std::string& text);
 
 // The whole configuration as JSON, recorded in the package as provenance.
 std::string configToJson(const BakeConfig& config);

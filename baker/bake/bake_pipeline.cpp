@@ -1,6 +1,7 @@
 #include "bake/bake_pipeline.h"
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 #define XXH_INLINE_ALL
 #include <xxhash.h>
@@ -46,7 +47,39 @@ long peakMemoryKiB() {
 
 double clampTo(const std::vector<double>& axis, double v) { return std::min(std::max(v, axis.front()), axis.back()); }
 
+std::string mib(uint64_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB"; }
+
 }  // namespace
+
+uint64_t defaultMemoryBudget() {
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    if (pages <= 0 || page <= 0) return uint64_t(4) << 30;
+    return static_cast<uint64_t>(pages) * static_cast<uint64_t>(page) / 10 * 6;
+}
+
+uint64_t FrameMemoryPlan::peakBytes() const { return trace.totalBytes() + compression_bytes + fixed_bytes; }
+
+FrameMemoryPlan frameMemoryPlan(const render::Medium& medium, const render::Camera& camera, const BasisModel& model,
+                                const TraceSettings& trace, const CompressionSettings& compression,
+                                uint64_t budget_bytes) {
+    FrameMemoryPlan plan;
+    // Libraries, allocator slack and the sequence's metadata: the resident size of a bake of an
+    // empty frame, measured at about 60 MiB, rounded up.
+    plan.fixed_bytes = uint64_t(96) << 20;
+    const uint64_t columns = static_cast<uint64_t>(model.axes.pointCount()) * model.columnsPerPoint();
+    const uint64_t pixels = static_cast<uint64_t>(camera.width()) * camera.height();
+    const uint64_t rank = std::min<uint64_t>(columns, static_cast<uint64_t>(std::max(compression.max_rank, 1)));
+    const uint64_t rays = static_cast<uint64_t>(trace.footprint_samples_per_axis) * trace.footprint_samples_per_axis;
+    // While the basis is compressed (the traced matrix is still held): the Gram matrix and the
+    // eigen solver's copies in double, a block of rows, U in float and half, and the copied depths.
+    plan.compression_bytes = 3 * columns * columns * 8 + 256 * columns * 8 + pixels * rank * 6 +
+                             pixels * rays * (1 + model.alpha_thresholds.size()) * 4;
+    TraceSettings sized = trace;
+    const uint64_t others = plan.compression_bytes + plan.fixed_bytes;
+    sized.memory_budget_bytes = budget_bytes == 0 ? 0 : (budget_bytes > others ? budget_bytes - others : 1);
+    plan.trace = planFrameTrace(medium, camera, model, sized);
+    return plan;
+}
 
 basis::BakeDescription describeBake(const vdb::VdbSequence& sequence, const BakeConfig& config,
                                     const SceneSetup& scene) {
@@ -92,6 +125,7 @@ BasisModel basisModelOf(const basis::BakeDescription& d) {
     m.bins = d.bins;
     m.rbf_width = d.rbf_width;
     m.albedo = d.albedo;
+    m.emission_clamp_to_centres = d.emission_clamp_to_centres;
     m.axes = d.axes;
     m.light_directions = d.light_directions;
     m.alpha_thresholds = d.alpha_thresholds;
@@ -108,8 +142,10 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
     basis::BakeDescription description = describeBake(sequence, config, scene);
     const BasisModel model = basisModelOf(description);
 
+    const uint64_t budget = config.memory_budget_bytes ? config.memory_budget_bytes : defaultMemoryBudget();
     package::PackageWriter writer(output);
     BakeReport report;
+    report.memory_budget_bytes = budget;
     nlohmann::ordered_json sources = nlohmann::ordered_json::array();
     nlohmann::ordered_json frame_errors = nlohmann::ordered_json::array();
     for (size_t n = 0; n < frames.size(); ++n) {
@@ -120,23 +156,45 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
             return !progress || progress((double(n) + 0.9 * f) / frames.size(), detail);
         };
         if (!frame_progress(0.0)) throw std::runtime_error("cancelled");
-        const vdb::VolumeFrame frame = sequence.load(frame_number);
-        sources.push_back({{"frame", frame_number},
-                           {"file", frame.file.filename().string()},
-                           {"xxh3_64", fileHash(frame.file)},
-                           {"cleaned_non_finite", frame.cleaned_non_finite},
-                           {"cleaned_negative_density", frame.cleaned_negative_density}});
-        const render::Medium medium = mediumFromFrame(frame);
-
         FrameBakeReport fr;
         fr.frame = frame_number;
-        auto t0 = std::chrono::steady_clock::now();
+        // The frame's grids are released once the medium holds its voxels.
+        const render::Medium medium = [&] {
+            const vdb::VolumeFrame frame = sequence.load(frame_number);
+            sources.push_back({{"frame", frame_number},
+                               {"file", frame.file.filename().string()},
+                               {"xxh3_64", fileHash(frame.file)},
+                               {"cleaned_non_finite", frame.cleaned_non_finite},
+                               {"cleaned_negative_density", frame.cleaned_negative_density},
+                               {"clamped_extreme", frame.density_cleaned.clamped + frame.temperature_cleaned.clamped}});
+            fr.active_voxels = frame.density_stats.active_voxels;
+            return mediumFromFrame(frame);
+        }();
+
         TraceSettings trace = config.trace;
         trace.seed = config.seed * 1000003ULL + static_cast<uint64_t>(frame_number);
+        const FrameMemoryPlan plan = frameMemoryPlan(medium, scene.camera, model, trace, config.compression, budget);
+        if (!plan.fits(budget))
+            throw std::runtime_error(
+                "frame " + std::to_string(frame_number) + " needs an estimated " + mib(plan.peakBytes()) +
+                " (basis images " + mib(plan.trace.basis_bytes) + ", optical depths " + mib(plan.trace.depth_bytes) +
+                ", scattered light " + mib(plan.trace.cell_bytes) + ", medium " + mib(plan.trace.medium_bytes) +
+                ", compression " + mib(plan.compression_bytes) + "), more than the memory budget of " + mib(budget) +
+                "; lower --size, --bins or the look axes' samples, or raise --memory-budget");
+        trace.memory_budget_bytes = plan.trace.totalBytes();  // the cell size the plan chose
+        fr.cell_edge_voxels = plan.trace.cell_edge_voxels;
+        fr.light_spacing_voxels = plan.trace.light_spacing_voxels;
+        fr.cell_optical_depth = plan.trace.cell_optical_depth;
+        fr.estimated_peak_bytes = plan.peakBytes();
+        auto t0 = std::chrono::steady_clock::now();
         const FrameBasis traced = traceFrameBasis(medium, scene.camera, model, trace, frame_progress);
         fr.trace_seconds = secondsSince(t0);
         fr.scattering_orders = traced.scattering_orders;
         fr.last_order_fraction = traced.last_order_fraction;
+        fr.setup_seconds = traced.seconds_setup;
+        fr.light_seconds = traced.seconds_light;
+        fr.photon_seconds = traced.seconds_photons;
+        fr.camera_seconds = traced.seconds_camera;
 
         t0 = std::chrono::steady_clock::now();
         const CompressedFrame compressed = compressFrameBasis(traced, frame_number, config.compression);
@@ -152,6 +210,9 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
                                 {"svd_truncation_relative_error", fr.truncation_error},
                                 {"half_quantisation_relative_error", fr.quantisation_error},
                                 {"scattering_orders", fr.scattering_orders},
+                                {"cell_edge_voxels", fr.cell_edge_voxels},
+                                {"light_spacing_voxels", fr.light_spacing_voxels},
+                                {"cell_optical_depth", fr.cell_optical_depth},
                                 {"last_order_fraction", fr.last_order_fraction}});
         report.frames.push_back(fr);
         if (progress && !progress(double(n + 1) / frames.size(), detail)) throw std::runtime_error("cancelled");
@@ -165,6 +226,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
                            {"temperature_grid", sequence.options().temperature_grid},
                            {"temperature_scale", sequence.options().temperature_scale},
                            {"temperature_offset", sequence.options().temperature_offset},
+                           {"clamp_extreme", sequence.options().clamp_extreme},
                            {"sources", sources},
                            {"settings", nlohmann::ordered_json::parse(configToJson(config))}};
     const render::CameraParameters& cam = scene.camera.parameters();

@@ -22,6 +22,13 @@ struct FrameBakeReport {
     double last_order_fraction = 0.0;
     double trace_seconds = 0.0;
     double compress_seconds = 0.0;
+    // What the memory plan chose and estimated before tracing (frameMemoryPlan).
+    int cell_edge_voxels = 0;
+    int light_spacing_voxels = 0;
+    double cell_optical_depth = 0.0;
+    double setup_seconds = 0.0, light_seconds = 0.0, photon_seconds = 0.0, camera_seconds = 0.0;
+    uint64_t estimated_peak_bytes = 0;
+    uint64_t active_voxels = 0;
 };
 
 struct BakeReport {
@@ -30,7 +37,26 @@ struct BakeReport {
     uint64_t package_bytes = 0;
     uint64_t uncompressed_basis_bytes = 0;  // float32 basis images the package stands for
     long peak_memory_kib = 0;
+    uint64_t memory_budget_bytes = 0;  // the budget the bake ran under
 };
+
+// The default --memory-budget: 60% of the machine's physical memory (the rest for the system and
+// whatever runs beside the bake).
+uint64_t defaultMemoryBudget();
+
+// What baking one frame holds at its peak, estimated before tracing, with the trace's plan sized
+// to fit `budget_bytes` (0: no limit): the trace (basis, depths, cells, light lattice, medium),
+// the compression, and the process's fixed share (libraries, the sequence's metadata).
+struct FrameMemoryPlan {
+    TracePlan trace;
+    uint64_t compression_bytes = 0;
+    uint64_t fixed_bytes = 0;
+    uint64_t peakBytes() const;
+    bool fits(uint64_t budget_bytes) const { return trace.fits && (budget_bytes == 0 || peakBytes() <= budget_bytes); }
+};
+FrameMemoryPlan frameMemoryPlan(const render::Medium& medium, const render::Camera& camera, const BasisModel& model,
+                                const TraceSettings& trace, const CompressionSettings& compression,
+                                uint64_t budget_bytes);
 
 // The description (bins, axes, lights, size) a bake of this sequence with this
 // configuration produces; also used by `reference` and `bench` to match it.

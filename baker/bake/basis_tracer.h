@@ -1,28 +1,34 @@
-// Basis images of one frame with all orders of scattering (DESIGN.md section 2).
+// Basis images of one frame with all orders of scattering (docs/model.md, section "basis images").
 //
 // Method (a deterministic-march variant of the paper's "trace once, re-weight"):
 // every path and camera ray is marched once, and along it the optical depths
 // split into smoke and flame parts per sampled T_c are accumulated, so the
 // transmittance exp(-k_s D_s(T_c) - k_f D_f(T_c)) is exact for every grid point
-// at once and nothing is re-weighted by ratios of sampling densities.
+// at once and nothing is re-weighted by ratios of sampling densities. Every march step is
+// integrated exactly for its sampled extinction (trace_tables.h, stepPathLength), so optically
+// thick steps are right too: a thick emitter glows with L_e / kappa at its surface.
 //   1. Primary sources Q0: emission rho*phi_i(T) per bin, and the single-scatter
 //      source sigma_s * tau_light / (4 pi) per directional light (its light
-//      transmittance from a per-voxel optical depth field).
-//   2. Scattering orders: the mean radiance Lbar = (1/4pi) integral L dw that
-//      each order's source produces is estimated on a coarse cell grid with a
-//      track-length estimator (photons start at points drawn from the source,
-//      fly straight, and deposit transmittance-weighted track length into the
-//      cells they cross). The next order's source is sigma_s * Lbar. Orders are
-//      added until one adds less than `order_tolerance` of the total.
+//      transmittance from a lattice of optical depths, light_depth_field.h).
+//   2. Scattering orders: the sigma_s-weighted mean radiance Lbar of each order is estimated on
+//      coarse cells (scatter_cells.h) with a track-length estimator (photon_pass.h); the next
+//      order's source is sigma_s * Lbar. Orders are added until one adds less than
+//      `order_tolerance` of the total. The weighting makes each cell's scattered power exact
+//      whatever its size, so cells follow the world extent (a cap per axis), not the voxel count.
 //   3. Camera rays march the exact fine-resolution medium and integrate
 //      tau * (Q0 + sigma_s * sum of Lbar) for every grid point and column; the
-//      per-pixel optical depths for exact alpha come from the same march.
-// Errors: quadrature of the marches (step_voxels), Monte Carlo noise of the
-// photon tracks, and the coarse cell grid's smoothing of Lbar (cell_voxels).
+//      per-pixel optical depths for exact alpha come from the same march. Their step follows the
+//      pixel footprint (never finer than step_voxels).
+// Errors: quadrature of the marches, Monte Carlo noise of the photon tracks, and the
+// interpolation of Lbar between cell centres.
+// Memory: planFrameTrace() says what a frame needs before any tracing; nothing is stored per
+// voxel besides the medium itself.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -39,6 +45,7 @@ struct BasisModel {
     TemperatureBins bins;
     double rbf_width = 0.9;
     double albedo = 0.8;
+    bool emission_clamp_to_centres = true;     // look_model.h, EmissionBasis::clamp_to_centres
     basis::ParameterAxes axes;
     std::vector<glm::dvec3> light_directions;  // direction each light travels
     std::vector<double> alpha_thresholds;      // T_c samples for the optical depth maps
@@ -47,22 +54,38 @@ struct BasisModel {
 };
 
 struct TraceSettings {
-    // Coarse grid cell edge, in voxels, for Lbar. 2 because the cells' smoothing of the
-    // scattered light is the largest error source left (scripts/bench/speed_vs_error.sh,
-    // frames 3 and 7 at 128x128, 14 looks: noise-corrected relative RMSE median / worst
-    // 1.05% / 3.27% with 4-voxel cells, 0.41% / 1.40% with 2); the cost, measured unloaded
-    // on frame 7 at 256x256: bake 26.5 -> 30.7 s, peak memory 651 -> 811 MiB.
+    // Smallest edge of the coarse cells that hold the scattered light, in voxels. 2 because the
+    // cells' smoothing of the scattered light was the largest error source on the bundled sample
+    // (scripts/bench/speed_vs_error.sh, frames 3 and 7 at 128x128, 14 looks: noise-corrected
+    // relative RMSE median / worst 1.05% / 3.27% with 4-voxel cells, 0.41% / 1.40% with 2).
     int cell_voxels = 2;
+    // At most this many cells along any axis of the volume: 48 keeps the bundled 80^3 sample at
+    // 2-voxel cells and makes the memory and cost of the scattered light independent of the
+    // resolution beyond it (a 480^3 frame gets 11-voxel cells of the same world size)...
+    int max_cells_per_axis = 48;
+    // ...unless that leaves cells optically thicker than this at the densest voxel and the largest
+    // extinction on the axes: then cells are made finer (down to cell_voxels, and as the memory
+    // budget allows). A cell's sigma_s-weighted mean conserves its scattered power, but the camera
+    // sees only the first mean free path of a thick cell: measured on a 16^3 box of smoke
+    // (tau 8 across, albedo 0.9, a sun), the image's energy against the reference was 0.999 /
+    // 0.993 / 0.962 with cells of optical depth 0.5 / 1 / 2 (tests/bake/basis_tracer_test.cpp).
+    double max_cell_optical_depth = 1.0;
+    // At most this many light-depth lattice points along any axis (shadow resolution of the
+    // single-scattered light): 128 keeps the sample at one point per voxel.
+    int light_points_per_axis = 128;
     int photons_primary = 262144;     // photons for the primary sources
     int photons_per_order = 131072;   // photons for each further scattering order
     int max_orders = 12;              // scattering orders at most
     double order_tolerance = 0.002;   // stop when an order adds less than this fraction
-    // March step in voxels (camera rays and light depths; photon tracks use >= 1 voxel).
-    // 0.25 because at 0.5 the midpoint rule misses silhouette optical depths by enough to
-    // move alpha by 0.0116 against the same rays marched at 0.1 (frame 3, 128x128, k_s 15);
-    // 0.25: 0.0018, 0.1: 0.0006, at no measurable bake-time cost (camera rays are cheap
-    // next to the photon passes). Relative RMSE of that look: 2.07% / 1.92% / 1.80%.
+    // Smallest march step in voxels (camera rays and light depths; photon tracks use a quarter
+    // cell, at least one voxel). 0.25 because at 0.5 the midpoint rule misses silhouette optical
+    // depths by enough to move alpha by 0.0116 against the same rays marched at 0.1 (frame 3,
+    // 128x128, k_s 15); 0.25: 0.0018, 0.1: 0.0006.
     double step_voxels = 0.25;
+    // Camera-ray step as a fraction of the spacing of the footprint rays where the ray enters the
+    // volume, when that is longer than step_voxels: finer detail than the rays' own spacing is
+    // averaged away by the footprint anyway, so fine volumes cost per pixel, not per voxel.
+    double footprint_step = 0.5;
     // Camera rays per pixel along each axis of its footprint (n x n, cell-centred): a
     // pixel is the mean over its footprint, and alpha = mean(1 - exp(-tau)) needs the
     // optical depths of each ray, which are all stored. 3 x 3 because the footprint
@@ -71,8 +94,32 @@ struct TraceSettings {
     // n = 2 / 3 / 4, and 0.0076 / 0.0032 / 0.0017 at 256x256 (tests/bake/
     // alpha_footprint_report); below 128x128 use 4 (64x64: 0.0116 at n = 3).
     int footprint_samples_per_axis = 3;
+    // Bytes the trace may use for what it can size (the scattered-light cells): 0 = no limit.
+    // planFrameTrace() coarsens the cells until they fit.
+    std::uint64_t memory_budget_bytes = 0;
     uint64_t seed = 1;
 };
+
+// What tracing one frame will hold, decided before any tracing.
+struct TracePlan {
+    int cell_edge_voxels = 0;
+    std::size_t cell_slots = 0;     // an upper bound (cells touched by non-empty bricks)
+    int light_spacing_voxels = 0;
+    // Optical depth across one cell at the densest voxel and the largest extinction on the axes.
+    double cell_optical_depth = 0.0;
+    std::size_t basis_bytes = 0;    // the pixels x columns matrix
+    std::size_t depth_bytes = 0;    // per-ray optical depths
+    std::size_t cell_bytes = 0;     // scattered-light fields and their photon buffers
+    std::size_t light_bytes = 0;    // light depth lattice
+    std::size_t medium_bytes = 0;   // the medium as given (already resident)
+    std::size_t totalBytes() const {
+        return basis_bytes + depth_bytes + cell_bytes + light_bytes + medium_bytes;
+    }
+    bool fits = true;               // false if even the coarsest cells exceed the budget
+};
+
+TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& camera, const BasisModel& model,
+                         const TraceSettings& settings);
 
 struct FrameBasis {
     int width = 0;
@@ -84,10 +131,16 @@ struct FrameBasis {
     std::vector<float> depth_sigmoid;   // O_a: footprint sample x alpha threshold x pixel
     int scattering_orders = 0;          // orders traced
     double last_order_fraction = 0.0;   // share of the total the last order added
+    int cell_edge_voxels = 0;           // what the plan chose
+    int light_spacing_voxels = 0;
+    double cell_optical_depth = 0.0;
+    // Seconds spent per stage (for the bake report; not stored in packages).
+    double seconds_setup = 0.0, seconds_light = 0.0, seconds_photons = 0.0, seconds_camera = 0.0;
 };
 
 // progress(fraction) returns false to cancel; traceFrameBasis then throws
-// std::runtime_error("cancelled") without a result.
+// std::runtime_error("cancelled") without a result. It is called from one thread at a time, but
+// not always the caller's.
 FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& camera, const BasisModel& model,
                            const TraceSettings& settings, const std::function<bool(double)>& progress = {});
 

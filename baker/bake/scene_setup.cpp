@@ -89,6 +89,41 @@ std::vector<int> selectFrames(const vdb::VdbSequence& sequence, const std::strin
         if (wanted) frames.push_back(f.number);
     }
     if (frames.empty()) throw std::invalid_argument(sequence.source() + ": no frame in '" + selection + "'");
+    // Numbers the selection names but the sequence lacks (a gap, or past either end) are skipped:
+    // said once, or refused under --strict. The union of the ranges minus the frames, as intervals.
+    std::vector<std::pair<long long, long long>> wanted;
+    for (const auto& [first, last] : ranges)
+        if (first <= last) wanted.emplace_back(first, last);
+    std::sort(wanted.begin(), wanted.end());
+    std::vector<std::pair<long long, long long>> merged;
+    for (const auto& r : wanted) {
+        if (!merged.empty() && r.first <= merged.back().second + 1)
+            merged.back().second = std::max(merged.back().second, r.second);
+        else
+            merged.push_back(r);
+    }
+    std::string skipped;
+    long long skipped_count = 0;
+    const auto skip = [&](long long a, long long b) {
+        if (a > b) return;
+        skipped += (skipped.empty() ? "" : ", ") + std::to_string(a) + (b > a ? "-" + std::to_string(b) : "");
+        skipped_count += b - a + 1;
+    };
+    for (const auto& [a, b] : merged) {
+        long long next = a;  // first number of [a, b] not yet accounted for
+        for (const vdb::FrameFile& f : sequence.frames()) {
+            if (f.number < a || f.number > b) continue;
+            skip(next, f.number - 1LL);
+            next = f.number + 1LL;
+        }
+        skip(next, b);
+    }
+    if (skipped_count > 0) {
+        const std::string message = sequence.source() + ": --frames " + selection + " skips " +
+                                    (skipped_count == 1 ? "frame " : "frames ") + skipped + " (no file)";
+        if (sequence.options().strict) throw std::invalid_argument(message + " (refused by --strict)");
+        if (sequence.options().warn) sequence.options().warn(message);
+    }
     return frames;
 }
 

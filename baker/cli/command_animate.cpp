@@ -2,10 +2,15 @@
 // Renders every frame of a package with a look keyframed across the sequence:
 // at each frame the look is interpolated linearly between the surrounding keys
 // (the paper's figure 1), held constant before the first and after the last.
-// Writes DIR/frame_NNNN.png (and .exr with --exr) and DIR/contact_sheet.png.
+// Writes DIR/frame_NNNN.png (and .exr with --exr) and DIR/contact_sheet.png: all or nothing. The
+// files are written into a staging folder inside DIR and moved into place only once every one is
+// complete, so an error or an interrupt leaves DIR as it was (a DIR created by the run is removed).
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <system_error>
+
+#include <unistd.h>
 
 #include "basis/basis_package.h"
 #include "basis/look_renderer.h"
@@ -36,6 +41,39 @@ LookKey parseKey(const std::string& text) {
     key.look = loadLook(text.substr(colon + 1));
     return key;
 }
+
+// A hidden folder in the output folder that holds the files until they are all written; removed
+// (with the output folder itself, if this run created it) unless commit() moved everything out.
+class StagingFolder {
+  public:
+    explicit StagingFolder(const std::filesystem::path& out_dir) : out_dir_(out_dir) {
+        created_out_dir_ = std::filesystem::create_directories(out_dir_);
+        for (unsigned n = 0;; ++n) {
+            path_ = out_dir_ / (".firelook-animate-" + std::to_string(::getpid()) + "-" + std::to_string(n));
+            if (std::filesystem::create_directory(path_)) break;
+        }
+    }
+    ~StagingFolder() {
+        std::error_code ignored;
+        std::filesystem::remove_all(path_, ignored);
+        if (!committed_ && created_out_dir_) std::filesystem::remove(out_dir_, ignored);  // only if empty
+    }
+    StagingFolder(const StagingFolder&) = delete;
+    StagingFolder& operator=(const StagingFolder&) = delete;
+
+    std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+    // Moves every staged file over its namesake in the output folder (renames: no more writing).
+    void commit() {
+        for (const auto& entry : std::filesystem::directory_iterator(path_))
+            std::filesystem::rename(entry.path(), out_dir_ / entry.path().filename());
+        committed_ = true;
+    }
+
+  private:
+    std::filesystem::path out_dir_, path_;
+    bool created_out_dir_ = false, committed_ = false;
+};
 
 Look lookAtFrame(const std::vector<LookKey>& keys, int frame, const TemperatureBins& bins) {
     if (frame <= keys.front().frame) return keys.front().look;
@@ -74,7 +112,7 @@ void registerAnimateCommand(CLI::App& app) {
             if (keys[i].frame == keys[i - 1].frame)
                 throw std::invalid_argument("two keys at frame " + std::to_string(keys[i].frame));
 
-        std::filesystem::create_directories(args->out_dir);
+        StagingFolder staging(args->out_dir);
         image::WriteOptions png;
         png.png_exposure_stops = args->exposure;
         png.png_background = std::array<float, 3>{0.0f, 0.0f, 0.0f};  // opaque frames over black, as a viewer shows them
@@ -88,17 +126,18 @@ void registerAnimateCommand(CLI::App& app) {
             basis::renderLookImage(d, factors, basis::decodeU(factors), lookAtFrame(keys, frame, d.bins), image.pixels);
             char name[32];
             std::snprintf(name, sizeof name, "frame_%04d", frame);
-            const std::filesystem::path base = std::filesystem::path(args->out_dir) / name;
-            image::writeImage(base.string() + ".png", image, png);
-            if (args->exr) image::writeImage(base.string() + ".exr", image);
+            image::writeImage(staging / (std::string(name) + ".png"), image, png);
+            if (args->exr) image::writeImage(staging / (std::string(name) + ".exr"), image);
             frames.push_back(std::move(image));
             bar.update(double(n + 1) / d.frames.size(), "frame " + std::to_string(frame));
         }
-        bar.finish(std::to_string(frames.size()) + " frames");
         image::ContactSheetOptions sheet;
         sheet.write = png;
+        image::writeContactSheet(staging / "contact_sheet.png", frames, args->columns, sheet);
+        throwIfInterrupted();
+        staging.commit();
+        bar.finish(std::to_string(frames.size()) + " frames");
         const std::filesystem::path sheet_path = std::filesystem::path(args->out_dir) / "contact_sheet.png";
-        image::writeContactSheet(sheet_path, frames, args->columns, sheet);
         std::printf("wrote %zu frames to %s/frame_NNNN.png%s and %s\n", frames.size(), args->out_dir.c_str(),
                     args->exr ? " (+ .exr)" : "", sheet_path.c_str());
     });

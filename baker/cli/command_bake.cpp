@@ -24,9 +24,20 @@ void writeReportJson(const std::string& path, const bake::BakeReport& report) {
                           {"half_quantisation_relative_error", f.quantisation_error},
                           {"scattering_orders", f.scattering_orders},
                           {"trace_seconds", f.trace_seconds},
-                          {"svd_seconds", f.compress_seconds}});
+                          {"trace_stage_seconds",
+                           {{"cells_and_sources", f.setup_seconds},
+                            {"light_depths", f.light_seconds},
+                            {"photon_passes", f.photon_seconds},
+                            {"camera_rays", f.camera_seconds}}},
+                          {"svd_seconds", f.compress_seconds},
+                          {"active_voxels", f.active_voxels},
+                          {"cell_edge_voxels", f.cell_edge_voxels},
+                          {"light_spacing_voxels", f.light_spacing_voxels},
+                          {"cell_optical_depth", f.cell_optical_depth},
+                          {"estimated_peak_mib", f.estimated_peak_bytes / 1048576.0}});
     const nlohmann::ordered_json doc = {{"seconds", report.seconds},
                                         {"peak_memory_mib", report.peak_memory_kib / 1024.0},
+                                        {"memory_budget_mib", report.memory_budget_bytes / 1048576.0},
                                         {"package_bytes", report.package_bytes},
                                         {"uncompressed_basis_bytes", report.uncompressed_basis_bytes},
                                         {"frames", frames}};
@@ -37,7 +48,7 @@ void writeReportJson(const std::string& path, const bake::BakeReport& report) {
 
 void registerBakeCommand(CLI::App& app) {
     struct Args {
-        std::string sequence, output, frames, report_json;
+        std::string sequence, output, frames, report_json, memory_budget;
         uint64_t seed = 1;
         SceneFlags scene;
     };
@@ -49,11 +60,16 @@ void registerBakeCommand(CLI::App& app) {
     cmd->add_option("--seed", args->seed, "random seed: the same seed gives the same bytes")->capture_default_str();
     cmd->add_option("--report", args->report_json,
                     "also write what the bake measured (time, peak memory, sizes, per-frame rank and errors) as JSON");
+    cmd->add_option("--memory-budget", args->memory_budget,
+                    "most memory the bake may hold, e.g. 6G (binary units K, M, G, T); default 60% of the machine's "
+                    "physical memory. Each frame's needs are estimated before it is traced: the scattered-light "
+                    "cells are coarsened to fit, and a frame that cannot fit stops the bake with nothing written");
     addSceneFlags(*cmd, args->scene);
     cmd->callback([cmd, args] {
         bake::BakeConfig config = makeBakeConfig(*cmd, args->scene);
         if (!args->frames.empty()) config.frames = args->frames;
         if (cmd->count("--seed") || args->scene.config.empty()) config.seed = args->seed;
+        if (!args->memory_budget.empty()) config.memory_budget_bytes = bake::parseByteSize(args->memory_budget);
         ProgressBar bar("bake");
         const bake::BakeReport report = bake::bakePackage(
             args->sequence, args->output, config, kToolVersion, [&](double fraction, const std::string& detail) {
@@ -71,7 +87,8 @@ void registerBakeCommand(CLI::App& app) {
         for (const bake::FrameBakeReport& f : report.frames)
             std::printf("%6d %5d %10.2e %10.2e %7d %9.1f %9.1f\n", f.frame, f.rank, f.truncation_error,
                         f.quantisation_error, f.scattering_orders, f.trace_seconds, f.compress_seconds);
-        std::printf("bake time %.1f s, peak memory %.0f MiB\n", report.seconds, report.peak_memory_kib / 1024.0);
+        std::printf("bake time %.1f s, peak memory %.0f MiB (budget %.0f MiB)\n", report.seconds,
+                    report.peak_memory_kib / 1024.0, report.memory_budget_bytes / 1048576.0);
         if (!args->report_json.empty()) writeReportJson(args->report_json, report);
     });
 }

@@ -28,6 +28,7 @@
 #include "cli/commands.h"
 #include "cli/interrupt.h"
 #include "cli/progress_bar.h"
+#include "cli/sequence_options.h"
 #include "render/random.h"
 #include "render/footprint_transmittance.h"
 #include "render/reference_tracer.h"
@@ -152,6 +153,7 @@ void appendCsvRow(const std::filesystem::path& file, const std::string& label, c
     static const char* const kColumns[] = {"looks", "median_relative_rmse", "worst_relative_rmse",
                                            "median_reference_noise", "median_noise_corrected_rmse",
                                            "worst_noise_corrected_rmse", "max_alpha_error",
+                                           "median_image_mean_bias", "worst_image_mean_bias",
                                            "median_coefficients_us", "median_image_ms", "package_bytes",
                                            "bake_seconds", "bake_peak_memory_mib"};
     const bool fresh = !std::filesystem::exists(file) || std::filesystem::file_size(file) == 0;
@@ -165,6 +167,14 @@ void appendCsvRow(const std::filesystem::path& file, const std::string& label, c
     for (const char* c : kColumns) out << ',' << summary.at(c).dump();
     out << '\n';
     if (!out) throw std::runtime_error(file.string() + ": cannot append the bench row");
+}
+
+// The entry farthest from zero, with its sign.
+double worstBySize(const std::vector<double>& v) {
+    double worst = 0.0;
+    for (double x : v)
+        if (std::fabs(x) > std::fabs(worst)) worst = x;
+    return worst;
 }
 
 double median(std::vector<double> v) {
@@ -199,6 +209,7 @@ void registerBenchCommand(CLI::App& app) {
         int looks = 20, spp = 1024, alpha_rays = 8;
         uint64_t seed = 7;
         bool split = false;
+        SequenceFlags sequence_flags;
     };
     auto args = std::make_shared<Args>();
     CLI::App* cmd = app.add_subcommand("bench", "Error of a package against the reference path tracer over random looks");
@@ -222,6 +233,7 @@ void registerBenchCommand(CLI::App& app) {
     cmd->add_option("--bake-report", args->bake_report,
                     "the package's `firelook bake --report` JSON: adds its bake seconds and peak memory to the summary")
         ->check(CLI::ExistingFile);
+    addSequenceFlags(*cmd, args->sequence_flags);
     cmd->callback([args] {
         const basis::BasisPackage package = basis::BasisPackage::open(args->package);
         const basis::BakeDescription& d = package.description();
@@ -239,6 +251,9 @@ void registerBenchCommand(CLI::App& app) {
         read.temperature_grid = prov.at("temperature_grid");
         read.temperature_scale = prov.at("temperature_scale");
         read.temperature_offset = prov.at("temperature_offset");
+        applySequenceFlags(args->sequence_flags, read);
+        // A package baked with --clamp-extreme saw clamped data: its references must too.
+        if (prov.value("clamp_extreme", false)) read.clamp_extreme = true;
         const vdb::VdbSequence sequence = vdb::VdbSequence::open(args->sequence, read);
         std::vector<int> frames = args->frames;
         if (frames.empty()) {
@@ -251,13 +266,15 @@ void registerBenchCommand(CLI::App& app) {
         const uint64_t bake_seed = prov.at("settings").at("seed");
 
         ordered_json rows = ordered_json::array();
-        std::vector<double> rmse, ref_noise, alpha_error, corrected, e_trace, e_interp, e_compress, coeff_us, image_ms;
+        std::vector<double> rmse, ref_noise, mean_bias, mean_noise, alpha_error, corrected, e_trace, e_interp, e_compress, coeff_us, image_ms;
         render::Pcg32 rng(args->seed);
         ProgressBar bar("bench");
         const int total = static_cast<int>(frames.size()) * args->looks;
         int done = 0;
         for (int frame : frames) {
+            throwIfInterrupted();
             const render::Medium medium = bake::mediumFromFrame(sequence.load(frame));
+            throwIfInterrupted();
             // Built on the first look whose exact alpha is not cached: marching 8x8 rays per
             // pixel is the slow part of a cached bench run.
             std::optional<render::FootprintTransmittance> exact_alpha;
@@ -266,7 +283,10 @@ void registerBenchCommand(CLI::App& app) {
             bake::FrameBasis full;
             bake::TraceSettings frame_trace = trace;
             frame_trace.seed = bake_seed * 1000003ULL + static_cast<uint64_t>(frame);  // as bakePackage seeds it
-            if (args->split) full = bake::traceFrameBasis(medium, camera, bake::basisModelOf(d), frame_trace);
+            const auto keep_tracing = [](double) { return !interruptRequested(); };
+            if (args->split)
+                full = bake::traceFrameBasis(medium, camera, bake::basisModelOf(d), frame_trace, keep_tracing);
+            throwIfInterrupted();
             for (int k = 0; k < args->looks; ++k) {
                 throwIfInterrupted();
                 const Look look = randomLook(d, rng, done);
@@ -289,10 +309,12 @@ void registerBenchCommand(CLI::App& app) {
                 render::ReferenceSettings rs;
                 rs.samples_per_pixel = args->spp;
                 rs.seed = args->seed * 7919 + static_cast<uint64_t>(done);
+                rs.stop_requested = interruptRequested;
                 const std::string size_key = "frame " + std::to_string(frame) + " size " + std::to_string(d.width) +
                                              "x" + std::to_string(d.height);
                 const std::string scene_key = " bins " + std::to_string(d.bins.t_lo) + " " + std::to_string(d.bins.t_hi) +
-                                              " " + std::to_string(d.bins.count) + " camera " + cam.dump();
+                                              " " + std::to_string(d.bins.count) + " camera " + cam.dump() +
+                                              (d.emission_clamp_to_centres ? " emission clamp centres" : "");
                 const std::filesystem::path cache_dir = args->reference_cache;
                 render::ReferenceResult ref;
                 ref.image = {d.width, d.height, std::vector<float>(static_cast<size_t>(d.pixelCount()) * 4)};
@@ -301,6 +323,7 @@ void registerBenchCommand(CLI::App& app) {
                 const std::filesystem::path ref_file = cache_dir.empty() ? cache_dir : cachePath(cache_dir, "ref", ref_key);
                 if (!loadCached(ref_file, ref_key, ref.estimated_relative_rmse, ref.image.rgba)) {
                     ref = render::renderReference(medium, model, camera, rs);
+                    throwIfInterrupted();  // a stopped render is partial: never cache it
                     storeCached(ref_file, ref_key, ref.estimated_relative_rmse, ref.image.rgba);
                 }
                 const ExtinctionParams e = look.extinction();
@@ -312,7 +335,8 @@ void registerBenchCommand(CLI::App& app) {
                 std::vector<float> exact(static_cast<size_t>(d.pixelCount()));
                 double unused = 0.0;
                 if (!loadCached(alpha_file, alpha_key, unused, exact)) {
-                    if (!exact_alpha) exact_alpha.emplace(medium, camera, d.bins, args->alpha_rays);
+                    if (!exact_alpha)
+                        exact_alpha.emplace(medium, camera, d.bins, args->alpha_rays, 0.1, interruptRequested);
                     exact = exact_alpha->alpha(e);
                     storeCached(alpha_file, alpha_key, 0.0, exact);
                 }
@@ -325,6 +349,17 @@ void registerBenchCommand(CLI::App& app) {
                 alpha_error.push_back(a);
                 // Subtract the reference's own noise (independent of the package's error) in quadrature.
                 corrected.push_back(std::sqrt(std::max(0.0, e_rgb * e_rgb - ref.estimated_relative_rmse * ref.estimated_relative_rmse)));
+                // Image-mean bias: the package's total RGB against the reference's, and the reference's
+                // own standard error of that total (per-pixel errors add in quadrature).
+                double pkg_sum = 0.0, ref_sum = 0.0, ref_squares = 0.0;
+                for (size_t p = 0; p < ref.image.rgba.size(); ++p) {
+                    if (p % 4 == 3) continue;
+                    pkg_sum += pkg.rgba[p];
+                    ref_sum += ref.image.rgba[p];
+                    ref_squares += double(ref.image.rgba[p]) * ref.image.rgba[p];
+                }
+                mean_bias.push_back(ref_sum > 0.0 ? pkg_sum / ref_sum - 1.0 : 0.0);
+                mean_noise.push_back(ref_sum > 0.0 ? ref.estimated_relative_rmse * std::sqrt(ref_squares) / ref_sum : 0.0);
                 ordered_json row = {{"frame", frame},
                                     {"look", lookToJson(look)},
                                     {"T_c", look.temperature_threshold},
@@ -333,6 +368,8 @@ void registerBenchCommand(CLI::App& app) {
                                     {"relative_rmse", e_rgb},
                                     {"reference_noise", ref.estimated_relative_rmse},
                                     {"noise_corrected_rmse", corrected.back()},
+                                    {"image_mean_bias", mean_bias.back()},
+                                    {"image_mean_reference_noise", mean_noise.back()},
                                     {"max_alpha_error", a},
                                     {"max_alpha_error_vs_path_traced", a_traced},
                                     {"coefficients_us", coeff_us.back()},
@@ -341,7 +378,8 @@ void registerBenchCommand(CLI::App& app) {
                     basis::ParameterAxes point{{look.temperature_threshold}, {look.smoke_extinction}, {look.flame_extinction}};
                     bake::BasisModel direct_model = bake::basisModelOf(d);
                     direct_model.axes = point;
-                    const bake::FrameBasis direct = bake::traceFrameBasis(medium, camera, direct_model, frame_trace);
+                    const bake::FrameBasis direct =
+                        bake::traceFrameBasis(medium, camera, direct_model, frame_trace, keep_tracing);
                     const render::RenderImage direct_image = toImage(d, imageFromBasis(d, factors, direct, point, look, model));
                     const render::RenderImage blended = toImage(d, imageFromBasis(d, factors, full, d.axes, look, model));
                     e_trace.push_back(render::relativeRmse(direct_image, ref.image));
@@ -351,11 +389,13 @@ void registerBenchCommand(CLI::App& app) {
                                     {"interpolation", e_interp.back()},
                                     {"compression", e_compress.back()}};
                 }
+                throwIfInterrupted();
                 rows.push_back(row);
                 ++done;
                 bar.update(double(done) / total, "frame " + std::to_string(frame));
             }
         }
+        throwIfInterrupted();  // before --json and --csv are written
         bar.finish();
         ordered_json summary = {{"package", args->package},
                                 {"frames", frames},
@@ -368,6 +408,9 @@ void registerBenchCommand(CLI::App& app) {
                                 {"median_noise_corrected_rmse", median(corrected)},
                                 {"worst_noise_corrected_rmse", maxOf(corrected)},
                                 {"max_alpha_error", maxOf(alpha_error)},
+                                {"median_image_mean_bias", median(mean_bias)},
+                                {"worst_image_mean_bias", worstBySize(mean_bias)},
+                                {"median_image_mean_reference_noise", median(mean_noise)},
                                 {"median_coefficients_us", median(coeff_us)},
                                 {"median_image_ms", median(image_ms)},
                                 {"package_bytes", package.reader().fileSize()}};

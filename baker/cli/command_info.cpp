@@ -8,6 +8,7 @@
 
 #include "basis/basis_package.h"
 #include "cli/commands.h"
+#include "cli/sequence_options.h"
 #include "package/package_reader.h"
 #include "vdb/vdb_sequence.h"
 #include "vdb/volume_frame.h"
@@ -60,8 +61,10 @@ ordered_json packageInfo(const std::filesystem::path& path) {
     return info;
 }
 
-ordered_json sequenceInfo(const std::string& source) {
-    const vdb::VdbSequence sequence = vdb::VdbSequence::open(source);
+ordered_json sequenceInfo(const std::string& source, const SequenceFlags& flags) {
+    vdb::ReadOptions options;
+    applySequenceFlags(flags, options);
+    const vdb::VdbSequence sequence = vdb::VdbSequence::open(source, options);
     ordered_json info;
     info["kind"] = "vdb-sequence";
     info["source"] = source;
@@ -86,8 +89,17 @@ ordered_json sequenceInfo(const std::string& source) {
         if (!f.index_bounds.empty())
             frame["index_bounds"] = {{f.index_bounds.min.x, f.index_bounds.min.y, f.index_bounds.min.z},
                                      {f.index_bounds.max.x, f.index_bounds.max.y, f.index_bounds.max.z}};
-        if (f.cleaned_non_finite || f.cleaned_negative_density)
-            frame["cleaned"] = {{"non_finite", f.cleaned_non_finite}, {"negative_density", f.cleaned_negative_density}};
+        if (f.density_cleaned.any() || f.temperature_cleaned.any()) {
+            const auto counts = [](const vdb::CleanedValues& c) {
+                return ordered_json{{"nan", c.nan}, {"inf", c.inf}, {"negative", c.negative}, {"clamped", c.clamped}};
+            };
+            frame["cleaned"] = {{"non_finite", f.cleaned_non_finite},
+                                {"negative_density", f.cleaned_negative_density},
+                                {"density", counts(f.density_cleaned)},
+                                {"temperature", counts(f.temperature_cleaned)},
+                                {"summary", vdb::cleaningSummary(f)},
+                                {"report", vdb::cleaningReport(f)}};
+        }
         frames.push_back(frame);
     }
     info["frames"] = frames;
@@ -137,6 +149,11 @@ void printSequence(const ordered_json& info) {
                     f["temperature"]["min"].get<double>(), f["temperature"]["max"].get<double>(),
                     static_cast<unsigned long long>(f["temperature"]["active_voxels"].get<uint64_t>()),
                     f["voxel_size"].get<double>());
+    // What loading changed (also warned on stderr), one line per frame and grid that needed it.
+    for (const ordered_json& f : info["frames"])
+        if (f.contains("cleaned"))
+            for (const ordered_json& line : f["cleaned"]["report"])
+                std::printf("  frame %d: %s\n", f["frame"].get<int>(), line.get<std::string>().c_str());
 }
 
 }  // namespace
@@ -144,13 +161,15 @@ void printSequence(const ordered_json& info) {
 void registerInfoCommand(CLI::App& app) {
     auto path = std::make_shared<std::string>();
     auto json = std::make_shared<bool>(false);
+    auto flags = std::make_shared<SequenceFlags>();
     CLI::App* cmd = app.add_subcommand("info", "Describe a .firelook package or a VDB sequence");
     cmd->add_option("PATH", *path, "package file, folder of .vdb files, or a pattern such as fire_####.vdb")
         ->required();
     cmd->add_flag("--json", *json, "print JSON on stdout");
-    cmd->callback([path, json] {
+    addSequenceFlags(*cmd, *flags);
+    cmd->callback([path, json, flags] {
         const bool is_package = looksLikePackage(*path);
-        const ordered_json info = is_package ? packageInfo(*path) : sequenceInfo(*path);
+        const ordered_json info = is_package ? packageInfo(*path) : sequenceInfo(*path, *flags);
         if (*json)
             std::printf("%s\n", info.dump(2).c_str());
         else if (is_package)

@@ -39,18 +39,21 @@ void registerReferenceCommand(CLI::App& app) {
         const basis::BakeDescription d = bake::describeBake(sequence, config, scene);
         const Look look = args->look.empty() ? parseLook(d.default_look_json, "default look") : loadLook(args->look);
         const LookModel model = makeLookModel(look, d.bins, d.rbf_width, d.light_directions);
+        throwIfInterrupted();
         const render::Medium medium = bake::mediumFromFrame(sequence.load(args->frame));
+        throwIfInterrupted();
 
         render::ReferenceSettings settings;
         settings.samples_per_pixel = args->spp;
         settings.seed = args->seed;
+        settings.stop_requested = interruptRequested;
         ProgressBar bar("reference");
         const render::ReferenceResult result =
             render::renderReference(medium, model, scene.camera, settings, [&](double fraction) {
                 bar.update(fraction, std::to_string(args->spp) + " spp");
                 return !interruptRequested();
             });
-        throwIfInterrupted();
+        throwIfInterrupted();  // before anything is written: an existing --out keeps its bytes
         bar.finish();
         image::ImageRGBA image(result.image.width, result.image.height);
         image.pixels = result.image.rgba;

@@ -4,6 +4,7 @@
 #include "basis/basis_package.h"
 #include "basis/look_renderer.h"
 #include "cli/commands.h"
+#include "cli/interrupt.h"
 #include "image/image_io.h"
 #include "look/look.h"
 
@@ -33,6 +34,7 @@ void registerRenderCommand(CLI::App& app) {
         basis::renderLookImage(d, factors, basis::decodeU(factors), look, image.pixels);
         image::WriteOptions options;
         options.png_exposure_stops = args->exposure;
+        throwIfInterrupted();
         image::writeImage(args->out, image, options);
         std::printf("wrote %s (%dx%d, frame %d, rank %d)\n", args->out.c_str(), d.width, d.height, args->frame,
                     factors.rank);

@@ -1,5 +1,6 @@
 // `firelook`: the command line for baking, inspecting and checking packages.
-// Exit 0 on success; otherwise one line "firelook: error: ..." on stderr.
+// Exit 0 on success; otherwise one line "firelook: error: ..." on stderr, or, after SIGINT/SIGTERM,
+// one line "firelook: interrupted by SIG...; no output was written" and exit 128 + the signal.
 #include <cstdio>
 #include <exception>
 
@@ -8,6 +9,7 @@
 #include "cli/version.h"
 
 int main(int argc, char** argv) {
+    firelook::cli::installInterruptHandler();  // first: a signal at any later moment gets the one line
     CLI::App app{"FireLook: bake volumetric fire into basis-image packages and render any look"};
     app.set_version_flag("--version", std::string("firelook ") + firelook::cli::kToolVersion);
     app.require_subcommand(1);
@@ -18,15 +20,19 @@ int main(int argc, char** argv) {
     firelook::cli::registerCompareCommand(app);
     firelook::cli::registerAnimateCommand(app);
     firelook::cli::registerBenchCommand(app);
-    firelook::cli::installInterruptHandler();
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
     } catch (const firelook::cli::InterruptedError& e) {
         std::fprintf(stderr, "firelook: %s\n", e.what());
-        return 130;
+        return firelook::cli::interruptExitCode();
     } catch (const std::exception& e) {
+        // Work cancelled by a signal may unwind with another error (a library's "cancelled").
+        if (firelook::cli::interruptRequested()) {
+            std::fprintf(stderr, "firelook: %s\n", firelook::cli::InterruptedError().what());
+            return firelook::cli::interruptExitCode();
+        }
         std::fprintf(stderr, "firelook: error: %s\n", e.what());
         return 1;
     }

@@ -14,6 +14,7 @@ void addSceneFlags(CLI::App& command, SceneFlags& flags) {
         ->capture_default_str();
     command.add_option("--bins", flags.bins, "number of temperature bins")->check(CLI::Range(1, 256))->capture_default_str();
     command.add_option("--config", flags.config, "bake settings JSON (docs/bake-config.md)")->check(CLI::ExistingFile);
+    addSequenceFlags(command, flags.sequence);
 }
 
 bake::BakeConfig makeBakeConfig(const CLI::App& command, const SceneFlags& flags) {
@@ -31,6 +32,7 @@ bake::BakeConfig makeBakeConfig(const CLI::App& command, const SceneFlags& flags
         std::copy(flags.camera.begin(), flags.camera.end(), c.begin());
         config.scene.camera = c;
     }
+    applySequenceFlags(flags.sequence, config.read);
     return config;
 }
 

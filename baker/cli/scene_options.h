@@ -6,6 +6,7 @@
 #include <string>
 
 #include "bake/bake_config.h"
+#include "cli/sequence_options.h"
 
 namespace firelook::cli {
 
@@ -16,12 +17,15 @@ struct SceneFlags {
     std::string up = "y";
     int bins = 16;
     std::string config;
+    SequenceFlags sequence;  // --strict, --clamp-extreme
 };
 
-// Adds --scene, --camera, --size, --up, --bins and --config to a subcommand.
+// Adds --scene, --camera, --size, --up, --bins, --config, --strict and --clamp-extreme to a subcommand.
 void addSceneFlags(CLI::App& command, SceneFlags& flags);
 
-// Defaults, then the --config file, then explicit flags (flags win).
+// Defaults, then the --config file, then explicit flags (flags win). config.read carries the
+// sequence flags and the warning sink (sequence_options.h), so whatever reads the sequence with it
+// (bakePackage, the reference) reports and refuses alike.
 bake::BakeConfig makeBakeConfig(const CLI::App& command, const SceneFlags& flags);
 
 }  // namespace firelook::cli

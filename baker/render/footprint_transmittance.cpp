@@ -1,16 +1,19 @@
 #include "render/footprint_transmittance.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include <tbb/parallel_for.h>
 
 #include "render/ray.h"
+#include "render/render_error.h"
 
 namespace firelook::render {
 
 FootprintTransmittance::FootprintTransmittance(const Medium& medium, const Camera& camera,
-                                               const TemperatureBins& bins, int per_axis, double step_voxels)
+                                               const TemperatureBins& bins, int per_axis, double step_voxels,
+                                               const std::function<bool()>& stop_requested)
     : bins_(bins), width_(camera.width()), height_(camera.height()), per_axis_(std::max(per_axis, 1)) {
     if (medium.empty()) return;
     const WorldBox box = medium.worldBounds();
@@ -22,7 +25,12 @@ FootprintTransmittance::FootprintTransmittance(const Medium& medium, const Camer
     // so the layout (and every later sum) is the same for any thread count.
     std::vector<std::vector<int>> row_pixels(height_);
     std::vector<std::vector<float>> row_histograms(height_);
+    std::atomic<bool> stopped{false};
     tbb::parallel_for(0, height_, [&](int py) {
+        if (stopped.load(std::memory_order_relaxed) || (stop_requested && stop_requested())) {
+            stopped.store(true, std::memory_order_relaxed);
+            return;
+        }
         std::vector<float> h(kTemperatureNodes);
         for (int px = 0; px < width_; ++px)
             for (int s = 0; s < rays_per_pixel; ++s) {
@@ -48,6 +56,7 @@ FootprintTransmittance::FootprintTransmittance(const Medium& medium, const Camer
                 row_histograms[py].insert(row_histograms[py].end(), h.begin(), h.end());
             }
     });
+    if (stopped.load()) throw RenderError("footprint transmittance: stopped on request");
     for (int py = 0; py < height_; ++py) {
         ray_pixel_.insert(ray_pixel_.end(), row_pixels[py].begin(), row_pixels[py].end());
         histogram_.insert(histogram_.end(), row_histograms[py].begin(), row_histograms[py].end());

@@ -12,6 +12,7 @@
 // 0.2 h^2 / (8 dT^2) < 4e-4 of a * O_a, i.e. < 2e-4 in alpha.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "look/look_model.h"
@@ -26,8 +27,10 @@ class FootprintTransmittance {
 
     // per_axis x per_axis cell-centred rays per pixel, midpoint steps of step_voxels.
     // Multithreaded over rows; the result does not depend on the thread count.
+    // stop_requested (thread-safe, cheap) is polled before every row: once it returns true the
+    // remaining rows are skipped and the constructor throws RenderError ("stopped on request").
     FootprintTransmittance(const Medium& medium, const Camera& camera, const TemperatureBins& bins, int per_axis,
-                           double step_voxels = 0.1);
+                           double step_voxels = 0.1, const std::function<bool()>& stop_requested = {});
 
     // Alpha per pixel (top row first) for these extinction parameters.
     std::vector<float> alpha(const ExtinctionParams& extinction) const;

@@ -20,7 +20,7 @@ void checkBins(const TemperatureBins& bins, const char* what) {
 }  // namespace
 
 LookEvaluator::LookEvaluator(const LookModel& look)
-    : bins_(look.bins), emission_bins_(look.emission.basis.bins) {
+    : bins_(look.bins), emission_bins_(look.emission.basis.bins), emission_basis_(look.emission.basis) {
     checkBins(bins_, "the temperature bins");
     checkBins(emission_bins_, "the emission basis's bins");
     const ExtinctionParams& e = look.extinction;
@@ -57,7 +57,9 @@ glm::dvec3 LookEvaluator::emissionPerDensity(double temperature) const {
     // x: the temperature in bin units, bin centre i at x = i. phi_i = exp(-(x - i)^2 / w^2).
     // Neighbours differ by g_{i+1} / g_i = exp((2 (x - i) - 1) / w^2), a ratio that itself shrinks
     // by exp(-2 / w^2) per step; walking away from the nearest centre the terms only decrease.
-    const double x = (emission_bins_.clamp(temperature) - emission_bins_.t_lo) / emission_bins_.width() - 0.5;
+    // The basis's clamping rule (EmissionBasis::emissionTemperature), so this equals look_model.h.
+    const double x =
+        (emission_basis_.emissionTemperature(temperature) - emission_bins_.t_lo) / emission_bins_.width() - 0.5;
     const int n = static_cast<int>(coefficients_.size());
     const int nearest = std::clamp(static_cast<int>(std::lround(x)), 0, n - 1);
     const double d = x - nearest;

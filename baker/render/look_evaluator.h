@@ -35,6 +35,7 @@ class LookEvaluator {
   private:
     TemperatureBins bins_;           // for kappa
     TemperatureBins emission_bins_;  // the emission basis's own bins (normally the same)
+    EmissionBasis emission_basis_;   // its clamping rule
     double threshold_, half_inverse_bin_width_, a_, b_, albedo_;
     double inverse_width_squared_;  // 1 / w^2, w in bins
     double step_ratio_;             // exp(-2 / w^2): how neighbouring ratios of the Gaussians change

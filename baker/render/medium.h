@@ -65,6 +65,12 @@ class Medium {
     static Medium slab(double thickness, double lateral_size, float density, float temperature);
 
     MediumSample sampleIndex(const glm::dvec3& index_point) const;
+    // The stored voxel at origin + relative (after sanitising), or density 0 and the background
+    // temperature outside the stored box: the corners trilinear interpolation reads.
+    MediumSample voxel(const glm::ivec3& relative) const {
+        const glm::vec2 v = voxelOrBackground(relative.x, relative.y, relative.z);
+        return {v.x, v.y};
+    }
     MediumSample sampleWorld(const glm::dvec3& world_point) const;
 
     bool empty() const { return voxels_.empty(); }

@@ -23,10 +23,11 @@ constexpr int kTileSize = 16;
 // once and later passes keep the per-pass overhead small.
 constexpr int kLargestPass = 16;
 
-// Per-pixel sums of the samples and of their squares, RGBA.
+// Per-pixel sums of the samples and of their squares, RGBA, and how many samples they hold.
 struct PixelAccumulator {
     double sum[4] = {0, 0, 0, 0};
     double sum_of_squares[4] = {0, 0, 0, 0};
+    int samples = 0;
 };
 
 float toFiniteFloat(double x) {
@@ -59,6 +60,13 @@ ReferenceResult renderReference(const Medium& medium, const LookModel& look, con
     const int width = camera.width(), height = camera.height();
     std::vector<PixelAccumulator> pixels(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
     std::atomic<std::uint64_t> sanitized{0}, truncated{0};
+    std::atomic<bool> stopped{false};
+    const auto stopRequested = [&] {
+        if (stopped.load(std::memory_order_relaxed)) return true;
+        if (!settings.stop_requested || !settings.stop_requested()) return false;
+        stopped.store(true, std::memory_order_relaxed);
+        return true;
+    };
     tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
 
     ReferenceResult result;
@@ -71,6 +79,11 @@ ReferenceResult renderReference(const Medium& medium, const LookModel& look, con
                                   std::uint64_t tile_sanitized = 0, tile_truncated = 0;
                                   for (int py = tile.rows().begin(); py < tile.rows().end(); ++py)
                                       for (int px = tile.cols().begin(); px < tile.cols().end(); ++px) {
+                                          if (stopRequested()) {
+                                              sanitized += tile_sanitized;
+                                              truncated += tile_truncated;
+                                              return;
+                                          }
                                           const std::size_t index = static_cast<std::size_t>(py) * width + px;
                                           PixelAccumulator& acc = pixels[index];
                                           for (int s = first; s < last; ++s) {
@@ -92,11 +105,16 @@ ReferenceResult renderReference(const Medium& medium, const LookModel& look, con
                                                   acc.sum_of_squares[ch] += sample[ch] * sample[ch];
                                               }
                                           }
+                                          acc.samples = last;
                                       }
                                   sanitized += tile_sanitized;
                                   truncated += tile_truncated;
                               });
         });
+        if (stopped.load()) {
+            result.cancelled = true;
+            break;
+        }
         done = last;
         if (keep_going && done < settings.samples_per_pixel &&
             !keep_going(static_cast<double>(done) / settings.samples_per_pixel)) {
@@ -105,15 +123,16 @@ ReferenceResult renderReference(const Medium& medium, const LookModel& look, con
         }
     }
 
-    const double n = done;
+    // Stopped within a pass, some pixels hold one pass more than `done`.
     result.image = {width, height, std::vector<float>(pixels.size() * 4)};
     result.variance_of_mean = {width, height, std::vector<float>(pixels.size() * 4, 0.0f)};
     double variance_sum = 0.0, mean_squared_sum = 0.0;
     for (std::size_t i = 0; i < pixels.size(); ++i)
         for (int ch = 0; ch < 4; ++ch) {
-            const double mean = pixels[i].sum[ch] / n;
+            const double n = pixels[i].samples;
+            const double mean = n > 0 ? pixels[i].sum[ch] / n : 0.0;
             result.image.rgba[4 * i + ch] = toFiniteFloat(mean);
-            if (done < 2) continue;
+            if (n < 2) continue;
             // Unbiased sample variance divided by n: the variance of the mean.
             const double variance =
                 std::max(0.0, (pixels[i].sum_of_squares[ch] - pixels[i].sum[ch] * mean) / (n - 1.0)) / n;

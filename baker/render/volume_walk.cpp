@@ -39,13 +39,12 @@ glm::dvec3 sampleIsotropicDirection(Pcg32& rng) {
 }
 
 double ratioTrackingTransmittance(const VolumeScene& scene, const Ray& ray, Pcg32& rng) {
-    const Medium& medium = scene.medium();
     const LookEvaluator& look = scene.look();
     MajorantTracker tracker(scene.majorants(), ray);
     TentativeCollision c;
     double weight = 1.0;
     while (weight > 0.0 && tracker.advance(sampleOpticalDistance(rng), c)) {
-        const MediumSample s = medium.sampleIndex(c.index_point);
+        const MediumSample& s = c.sample;
         if (s.density <= 0.0f) continue;
         const double p = std::min(look.extinction(s.density, s.temperature) / c.majorant, 1.0);
         weight = rouletteWeight(weight * (1.0 - p), rng);
@@ -55,13 +54,12 @@ double ratioTrackingTransmittance(const VolumeScene& scene, const Ray& ray, Pcg3
 
 bool deltaTrack(const VolumeScene& scene, const Ray& ray, Pcg32& rng, double throughput, glm::dvec3& emission,
                 glm::dvec3& collision) {
-    const Medium& medium = scene.medium();
     const LookEvaluator& look = scene.look();
     const bool emissive = look.hasEmission();
     MajorantTracker tracker(scene.majorants(), ray);
     TentativeCollision c;
     while (tracker.advance(sampleOpticalDistance(rng), c)) {
-        const MediumSample s = medium.sampleIndex(c.index_point);
+        const MediumSample& s = c.sample;
         if (s.density <= 0.0f) continue;
         if (emissive)
             emission += (throughput * s.density / c.majorant) * look.emissionPerDensity(s.temperature);
@@ -75,7 +73,6 @@ bool deltaTrack(const VolumeScene& scene, const Ray& ray, Pcg32& rng, double thr
 
 PathEstimate estimateCameraPath(const VolumeScene& scene, const Ray& ray, Pcg32& rng,
                                 const WalkSettings& settings) {
-    const Medium& medium = scene.medium();
     const LookEvaluator& look = scene.look();
     const bool emissive = look.hasEmission();
     PathEstimate out;
@@ -93,7 +90,7 @@ PathEstimate estimateCameraPath(const VolumeScene& scene, const Ray& ray, Pcg32&
     MajorantTracker tracker(scene.majorants(), ray);
     TentativeCollision c;
     while ((weight > 0.0 || (walk && !scattered)) && tracker.advance(sampleOpticalDistance(rng), c)) {
-        const MediumSample s = medium.sampleIndex(c.index_point);
+        const MediumSample& s = c.sample;
         if (s.density <= 0.0f) continue;
         if (emissive && weight > 0.0)
             out.radiance += (weight * s.density / c.majorant) * look.emissionPerDensity(s.temperature);

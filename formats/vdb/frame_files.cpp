@@ -181,4 +181,20 @@ std::vector<int> missingFrameNumbers(const std::vector<FrameFile>& frames) {
     return missing;
 }
 
+std::string formatFrameNumbers(const std::vector<int>& numbers) {
+    std::string text;
+    for (std::size_t i = 0; i < numbers.size();) {
+        std::size_t j = i;
+        while (j + 1 < numbers.size() && numbers[j + 1] == numbers[j] + 1) ++j;
+        text += (text.empty() ? "" : ", ") + std::to_string(numbers[i]);
+        if (j > i) text += "-" + std::to_string(numbers[j]);
+        i = j + 1;
+    }
+    return text;
+}
+
+std::string describeMissingFrames(const std::vector<int>& numbers) {
+    return (numbers.size() == 1 ? "frame " : "frames ") + formatFrameNumbers(numbers) + " missing";
+}
+
 }  // namespace firelook::vdb

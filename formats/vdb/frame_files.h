@@ -23,4 +23,10 @@ std::vector<FrameFile> findFrameFiles(const std::string& folder_or_pattern);
 // Frame numbers missing between the first and the last frame, ascending.
 std::vector<int> missingFrameNumbers(const std::vector<FrameFile>& frames);
 
+// Ascending frame numbers with runs written as ranges: {3, 5, 6, 7} -> "3, 5-7".
+std::string formatFrameNumbers(const std::vector<int>& numbers);
+
+// "frame 3 missing" or "frames 3, 5-7 missing" (the words of the gap warning).
+std::string describeMissingFrames(const std::vector<int>& numbers);
+
 }  // namespace firelook::vdb

@@ -1,5 +1,6 @@
 // Loading one frame: read both grids, check them, clean them, describe them.
 #include <algorithm>
+#include <cstdio>
 
 #include "frame_reading.h"
 #include "grid_conditioning.h"
@@ -26,6 +27,28 @@ void refuseUnderPolicy(const ReadOptions& options, std::uint64_t count, const st
     }
 }
 
+CleanedValues cleanedValues(const ConditioningReport& report, bool clamped) {
+    return {report.nan, report.inf, report.negative, clamped ? report.extreme : 0};
+}
+
+// Without clamp_extreme, a value beyond the plausible range stops the load (read_options.h).
+void refuseExtreme(const ConditioningReport& report, const ReadOptions& options, const std::string& grid,
+                   bool is_density, const std::filesystem::path& path) {
+    if (report.extreme == 0 || options.clamp_extreme) return;
+    const openvdb::Coord& v = report.extreme_voxel;
+    char value[64];
+    std::snprintf(value, sizeof value, "%g", report.extreme_value);
+    char bound[96];
+    if (is_density)
+        std::snprintf(bound, sizeof bound, "density (above %g)", kMaxPlausibleDensity);
+    else
+        std::snprintf(bound, sizeof bound, "temperature (|T| above %g in the data's units)", kMaxPlausibleTemperature);
+    throw VdbError(path.string() + ": " + grid + ": value " + value + " at voxel (" + std::to_string(v.x()) + ", " +
+                   std::to_string(v.y()) + ", " + std::to_string(v.z()) + ") is beyond any plausible " + bound +
+                   ", " + std::to_string(report.extreme) + (report.extreme == 1 ? " such voxel" : " such voxels") +
+                   "; --clamp-extreme clamps such values to the bound");
+}
+
 }  // namespace
 
 VolumeFrame loadFrame(const FrameFile& frame, const ReadOptions& resolved) {
@@ -43,9 +66,23 @@ VolumeFrame loadFrame(const FrameFile& frame, const ReadOptions& resolved) {
         requireSameTransform(*density, *temperature, path);
         result.index_to_world = indexToWorldMatrix(density->transform(), path);
 
-        const ConditioningReport density_report = conditionGrid(*density, {.clamp_negative = true});
-        const ConditioningReport temperature_report = conditionGrid(
-            *temperature, {.scale = resolved.temperature_scale, .offset = resolved.temperature_offset});
+        const ConditioningReport density_report = conditionGrid(
+            *density,
+            {.clamp_negative = true, .limit = kMaxPlausibleDensity, .clamp_extreme = resolved.clamp_extreme});
+        const ConditioningReport temperature_report =
+            conditionGrid(*temperature, {.scale = resolved.temperature_scale,
+                                         .offset = resolved.temperature_offset,
+                                         .limit = kMaxPlausibleTemperature,
+                                         .clamp_extreme = resolved.clamp_extreme});
+        refuseExtreme(density_report, resolved, resolved.density_grid, true, path);
+        refuseExtreme(temperature_report, resolved, resolved.temperature_grid, false, path);
+        result.density_stats.name = resolved.density_grid;
+        result.temperature_stats.name = resolved.temperature_grid;
+        result.density_cleaned = cleanedValues(density_report, resolved.clamp_extreme);
+        result.temperature_cleaned = cleanedValues(temperature_report, resolved.clamp_extreme);
+        if (resolved.strict && (result.density_cleaned.any() || result.temperature_cleaned.any()))
+            throw VdbError(path.string() + ": " + cleaningSummary(result) +
+                           " (refused by --strict; without it they are set to 0 or clamped, and reported)");
         const std::uint64_t non_finite = density_report.non_finite + temperature_report.non_finite;
         refuseUnderPolicy(resolved, non_finite, "NaN/Inf values", path);
         refuseUnderPolicy(resolved, density_report.negative, "negative densities", path);

@@ -11,6 +11,11 @@ VdbSequence VdbSequence::open(const std::string& folder_or_pattern, ReadOptions 
     VdbSequence sequence;
     sequence.source_ = folder_or_pattern;
     sequence.frames_ = findFrameFiles(folder_or_pattern);
+    if (const std::vector<int> gaps = sequence.gaps(); !gaps.empty()) {
+        const std::string message = folder_or_pattern + ": " + describeMissingFrames(gaps);
+        if (options.strict) throw VdbError(message + " (refused by --strict)");
+        if (options.warn) options.warn(message);
+    }
     const std::filesystem::path& first = sequence.frames_.front().path;
     resolveGridNames(options, listGridNames(first), first);
     sequence.options_ = std::move(options);
@@ -33,7 +38,11 @@ VolumeFrame VdbSequence::load(int frame_number) const {
                        std::to_string(frames_.front().number) + " to " +
                        std::to_string(frames_.back().number) + (gaps().empty() ? "" : ", with gaps") + ")");
     }
-    return loadFrame(*frame, options_);
+    if (options_.before_load) options_.before_load(frame->path);
+    VolumeFrame loaded = loadFrame(*frame, options_);
+    if (options_.warn)
+        for (const std::string& line : cleaningReport(loaded)) options_.warn(line);
+    return loaded;
 }
 
 }  // namespace firelook::vdb

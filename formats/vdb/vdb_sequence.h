@@ -20,7 +20,8 @@ namespace firelook::vdb {
 class VdbSequence {
   public:
     // Throws VdbError naming the file or pattern on any problem (see findFrameFiles for the
-    // accepted forms; a file that is not VDB, a missing grid, a non-float grid).
+    // accepted forms; a file that is not VDB, a missing grid, a non-float grid). Gaps in the frame
+    // numbers go to options.warn ("SOURCE: frames 3, 5-7 missing"), or throw under options.strict.
     static VdbSequence open(const std::string& folder_or_pattern, ReadOptions options = {});
 
     const std::string& source() const { return source_; }
@@ -33,7 +34,10 @@ class VdbSequence {
     // naming the file for: a frame number not in the sequence, a missing or non-float grid (the
     // message lists the grids present), grids with different transforms, a non-linear transform,
     // a non-zero density background, and, under NonFinitePolicy::Refuse, NaN/Inf values or
-    // negative densities (the message gives their count).
+    // negative densities (the message gives their count), a value beyond the plausible range
+    // without clamp_extreme (the message names the grid, the value and the voxel; read_options.h),
+    // and under strict any value that would be cleaned or clamped. What was cleaned or clamped goes
+    // to options.warn, one line per grid (cleaningReport).
     VolumeFrame load(int frame_number) const;
 
     // Union of every frame's world_bounds (computed from the per-grid bounding boxes OpenVDB

@@ -23,6 +23,14 @@ struct GridStats {
     IndexBox active_bounds;  // inclusive index box of the active voxels
 };
 
+// What loading changed in one grid's active voxels (and background): NaN and Inf values set to 0,
+// negative densities set to 0, and values beyond the plausible range (read_options.h) clamped to it
+// under ReadOptions::clamp_extreme.
+struct CleanedValues {
+    std::uint64_t nan = 0, inf = 0, negative = 0, clamped = 0;
+    bool any() const { return nan + inf + negative + clamped > 0; }
+};
+
 // One loaded frame. Conventions (DESIGN.md section 1):
 // - voxel (i,j,k) sits at index point (i,j,k) (OpenVDB's convention), values between voxels are
 //   interpolated trilinearly, and outside the active voxels each grid reads its background;
@@ -48,7 +56,18 @@ struct VolumeFrame {
     // Voxels changed under NonFinitePolicy::Clean (NaN/Inf in either grid set to 0; negative
     // densities clamped to 0). They stay active. Always 0 under Refuse.
     std::uint64_t cleaned_non_finite = 0, cleaned_negative_density = 0;
+    // The same per grid, NaN and Inf apart, with the clamped values (cleaningReport words them).
+    CleanedValues density_cleaned, temperature_cleaned;
     std::vector<std::string> all_grid_names;  // every grid in the file, as OpenVDB lists them (by name)
 };
+
+// What loading changed in a frame, one line per grid that changed, naming the file and the grid:
+//   "PATH: density: 12 NaN, 0 Inf, 3 negative values set to 0"
+//   "PATH: temperature: 0 NaN, 2 Inf values set to 0; 5 values beyond +-1e+06 clamped to +-1e+06"
+// Empty when nothing changed. VdbSequence::load passes each line to ReadOptions::warn.
+std::vector<std::string> cleaningReport(const VolumeFrame& frame);
+// The same counts without the file and the "set to" words, both grids on one line:
+// "density: 12 NaN, 0 Inf, 3 negative values; temperature: 0 NaN, 2 Inf values". Empty if none.
+std::string cleaningSummary(const VolumeFrame& frame);
 
 }  // namespace firelook::vdb

@@ -22,6 +22,7 @@ std::string bakeDescriptionToJson(const BakeDescription& d) {
         {"temperature_bins", {{"t_lo", d.bins.t_lo}, {"t_hi", d.bins.t_hi}, {"count", d.bins.count}}},
         {"rbf_width", d.rbf_width},
         {"rbf_fit", "non-negative least squares"},
+        {"emission_temperature_clamp", d.emission_clamp_to_centres ? "bin_centres" : "range"},
         {"albedo", d.albedo},
         {"axes",
          {{"temperature_threshold", d.axes.temperature_threshold},
@@ -47,6 +48,12 @@ BakeDescription parseBakeDescription(const std::string& json_text, const std::st
         d.bins.t_hi = bins.at("t_hi").get<double>();
         d.bins.count = bins.at("count").get<int>();
         d.rbf_width = j.at("rbf_width").get<double>();
+        // Version-1 packages predate the key and were baked with the range rule.
+        const std::string clamp = j.value("emission_temperature_clamp", std::string("range"));
+        if (clamp != "bin_centres" && clamp != "range")
+            throw std::runtime_error("emission_temperature_clamp must be \"bin_centres\" or \"range\", got \"" +
+                                     clamp + "\"");
+        d.emission_clamp_to_centres = clamp == "bin_centres";
         d.albedo = j.at("albedo").get<double>();
         const json& axes = j.at("axes");
         d.axes.temperature_threshold = axes.at("temperature_threshold").get<std::vector<double>>();

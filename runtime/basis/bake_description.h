@@ -21,6 +21,8 @@ struct FrameRecord {
 struct BakeDescription {
     TemperatureBins bins;
     double rbf_width = 0.9;          // Gaussian RBF width in units of dT
+    // The emission rule the basis was traced with (look_model.h, EmissionBasis::clamp_to_centres).
+    bool emission_clamp_to_centres = true;
     double albedo = 0.8;             // fixed at bake time
     ParameterAxes axes;              // sampled extinction parameters
     std::vector<double> alpha_thresholds;  // T_c samples of the per-pixel optical depth maps

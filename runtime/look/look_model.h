@@ -71,9 +71,18 @@ inline constexpr double kDefaultRbfWidth = 0.7;
 struct EmissionBasis {
     TemperatureBins bins;
     double width_in_bins = kDefaultRbfWidth;
+    // docs/model.md: emission holds the outer bins' values beyond their centres,
+    // L_e(T) = L_e(clamp(T, T_0, T_{n-1})), so the hottest flame keeps its colour. false is the
+    // version-1 rule (clamp into [T_lo, T_hi]: up to 45% roll-off in the outer half bins), which
+    // packages baked before it record.
+    bool clamp_to_centres = true;
 
+    double emissionTemperature(double t) const {
+        const double in_range = bins.clamp(t);  // NaN -> T_lo
+        return clamp_to_centres ? std::clamp(in_range, bins.center(0), bins.center(bins.count - 1)) : in_range;
+    }
     double evaluate(int i, double t) const {
-        const double u = (bins.clamp(t) - bins.center(i)) / (bins.width() * width_in_bins);
+        const double u = (emissionTemperature(t) - bins.center(i)) / (bins.width() * width_in_bins);
         return std::exp(-u * u);
     }
 };

@@ -2,6 +2,8 @@
 // few photons, a 2x1x1 parameter grid.
 #include "bake/bake_pipeline.h"
 
+#include <tbb/global_control.h>
+
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -83,6 +85,64 @@ TEST(BakePipeline, SameSeedSameBytesOtherSeedOtherBasis) {
     EXPECT_NE(fa.svt, fc.svt);
     // Camera rays are deterministic: the exact optical depths do not depend on the seed.
     EXPECT_EQ(fa.depth_density, fc.depth_density);
+}
+
+// Photon chunks are summed in a fixed order and camera rays write only their own pixel, so the
+// number of worker threads cannot change a byte.
+TEST(BakePipeline, SameBytesWithOneAndTwoThreads) {
+    TempDir dir;
+    {
+        tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+        bakePackage(FIRELOOK_SAMPLE_DIR, dir / "one.firelook", tinyConfig(3), "test");
+    }
+    {
+        tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
+        bakePackage(FIRELOOK_SAMPLE_DIR, dir / "two.firelook", tinyConfig(3), "test");
+    }
+    const std::string one = fileBytes(dir / "one.firelook");
+    ASSERT_FALSE(one.empty());
+    EXPECT_TRUE(one == fileBytes(dir / "two.firelook")) << "1 and 2 threads gave different bytes";
+}
+
+// A budget below what the frame needs stops the bake before tracing, naming the frame, the
+// estimate and the settings that lower it; nothing is written.
+TEST(BakePipeline, BudgetBelowTheFrameStopsBeforeTracing) {
+    TempDir dir;
+    BakeConfig c = tinyConfig();
+    c.scene.width = c.scene.height = 256;  // a basis of 256^2 x 2 columns: 0.5 MiB, plus the fixed share
+    c.memory_budget_bytes = 64 << 20;      // below the 96 MiB fixed share alone
+    double traced = 0.0;
+    try {
+        bakePackage(FIRELOOK_SAMPLE_DIR, dir / "a.firelook", c, "test", [&](double f, const std::string&) {
+            traced = std::max(traced, f);
+            return true;
+        });
+        FAIL() << "expected the bake to refuse";
+    } catch (const std::runtime_error& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("frame 1 needs an estimated"), std::string::npos) << message;
+        EXPECT_NE(message.find("--memory-budget"), std::string::npos) << message;
+        EXPECT_NE(message.find("--size"), std::string::npos) << message;
+    }
+    EXPECT_EQ(traced, 0.0) << "no tracing progress before the refusal";
+    EXPECT_TRUE(dir.entries().empty());
+}
+
+// A tighter budget coarsens the scattered-light cells instead of failing, and the plan's estimate
+// never exceeds the budget it was given.
+TEST(BakePipeline, TightBudgetCoarsensTheCells) {
+    const vdb::VdbSequence sequence = vdb::VdbSequence::open(FIRELOOK_SAMPLE_DIR);
+    const render::Medium medium = mediumFromFrame(sequence.load(6));
+    const BakeConfig c = tinyConfig();
+    const SceneSetup scene = resolveScene(sequence, c.scene);
+    const BasisModel model = basisModelOf(describeBake(sequence, c, scene));
+    const FrameMemoryPlan free_plan = frameMemoryPlan(medium, scene.camera, model, c.trace, c.compression, 0);
+    ASSERT_GT(free_plan.trace.cell_bytes, 0u);
+    const uint64_t budget = free_plan.peakBytes() - free_plan.trace.cell_bytes / 2;
+    const FrameMemoryPlan tight = frameMemoryPlan(medium, scene.camera, model, c.trace, c.compression, budget);
+    EXPECT_TRUE(tight.fits(budget));
+    EXPECT_LE(tight.peakBytes(), budget);
+    EXPECT_GT(tight.trace.cell_edge_voxels, free_plan.trace.cell_edge_voxels);
 }
 
 TEST(BakePipeline, CancelledBakeLeavesNothingBehind) {

@@ -68,5 +68,25 @@ TEST(ExtinctionPerDensity, TemperatureUnitDoesNotMatter) {
     }
 }
 
+// docs/model.md: L_e(T) = L_e(clamp(T, T_0, T_{n-1})), so the hottest bin's emissivity holds for
+// everything hotter (and the coolest for everything cooler). Exact equality: the clamp happens
+// before any arithmetic. The version-1 rule (clamp to [T_lo, T_hi]) rolls off in the outer half
+// bins, by 1 - exp(-(0.5 / 0.7)^2) = 40% at T_hi for a lone top-bin coefficient.
+TEST(EmissionBasis, HoldsTheOuterBinsBeyondTheirCentres) {
+    const TemperatureBins bins{0.0, 3.0, 8};
+    EmissionFunction emission{EmissionBasis{bins, kDefaultRbfWidth}, std::vector<Rgb>(8, Rgb(0.0f))};
+    emission.coefficients.front() = Rgb(0.5f, 0.25f, 0.1f);
+    emission.coefficients.back() = Rgb(4.0f, 2.0f, 1.0f);
+    const Rgb top = emission.evaluate(bins.center(7)), bottom = emission.evaluate(bins.center(0));
+    for (double t : {bins.center(7) + 1e-9, bins.center(7) + 0.1, bins.t_hi, 10.0, 1e30})
+        EXPECT_EQ(emission.evaluate(t), top) << "T = " << t;
+    for (double t : {bins.center(0) - 1e-9, 0.05, bins.t_lo, -10.0, -1e30})
+        EXPECT_EQ(emission.evaluate(t), bottom) << "T = " << t;
+    emission.basis.clamp_to_centres = false;  // version 1
+    const double u = 0.5 / kDefaultRbfWidth;
+    EXPECT_NEAR(emission.evaluate(bins.t_hi).r / emission.evaluate(bins.center(7)).r, std::exp(-u * u), 1e-3);
+    EXPECT_EQ(emission.evaluate(10.0), emission.evaluate(bins.t_hi));
+}
+
 }  // namespace
 }  // namespace firelook

@@ -4,6 +4,9 @@
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -127,6 +130,134 @@ TEST(MajorantGrid, EmptyBricksAreSkippedAndTheFloorAppliesWhereDensityIs) {
     MajorantTracker tracker(grid, Ray{corner - along, along});
     TentativeCollision c;
     EXPECT_FALSE(tracker.advance(1e-9, c));
+}
+
+// sparseMedium with spikes: every 37th voxel of the ball 1e4 times denser, so most bricks the ball
+// touches have a majorant optical depth far above MajorantGrid::kDefaultRefineOpticalDepth and are refined.
+Medium spikyMedium() {
+    const Medium base = sparseMedium();
+    const glm::ivec3 dims = base.dims();
+    std::vector<float> density, temperature;
+    int n = 0;
+    for (int k = 0; k < dims.z; ++k)
+        for (int j = 0; j < dims.y; ++j)
+            for (int i = 0; i < dims.x; ++i, ++n) {
+                const MediumSample v = base.voxel({i, j, k});
+                density.push_back(v.density > 0.0f && n % 37 == 0 ? 2e4f * v.density : v.density);
+                temperature.push_back(v.temperature);
+            }
+    return Medium(base.origin(), dims, density, temperature, base.indexToWorld(), 0.0f);
+}
+
+TEST(MajorantGrid, RefinedBricksBoundExtinctionAndInterpolateExactly) {
+    const Medium medium = spikyMedium();
+    const TemperatureBins bins{0.0, 1.0, 8};
+    const ExtinctionParams extinction{0.4, 9.0, 0.5};
+    const MajorantGrid grid(medium, extinction, bins, 0.0);
+    std::mt19937 gen(13);
+    std::exponential_distribution<double> exp1(1.0);
+    int collisions = 0, refined = 0;
+    double largest = 0.0;
+    for (int r = 0; r < 300; ++r) {
+        MajorantTracker tracker(grid, randomRayThrough(medium, gen));
+        TentativeCollision c;
+        double last = 0.0;
+        for (int n = 0; n < 3000 && tracker.advance(exp1(gen), c); ++n) {
+            ASSERT_GE(c.distance, last);
+            last = c.distance;
+            const double sigma = c.sample.density * extinctionPerDensity(c.sample.temperature, extinction, bins);
+            ASSERT_LE(sigma, c.majorant);
+            // The tracker's values are the trilinear interpolant at the collision.
+            const MediumSample s = medium.sampleIndex(c.index_point);
+            ASSERT_NEAR(c.sample.density, s.density, 1e-4 * (1.0 + s.density));
+            ASSERT_NEAR(c.sample.temperature, s.temperature, 1e-4);
+            ++collisions;
+            refined += c.majorant < grid.majorant(glm::ivec3(glm::floor(
+                                        (c.index_point - medium.brickGridOrigin()) / double(Medium::kBrickSize)))) /
+                                        1.01;
+            largest = std::max(largest, c.majorant);
+        }
+    }
+    EXPECT_GT(collisions, 10000);
+    EXPECT_GT(refined, 1000) << "the test exercised the refinement";
+    EXPECT_GT(largest, 1e4) << "and met the spikes";
+}
+
+TEST(MajorantGrid, RefiningEveryBrickOrNoneGivesTheExactTransmittance) {
+    // Ratio tracking (no roulette) on the tracker alone: the mean of prod(1 - sigma / majorant) over
+    // the tentative collisions is exp(-tau) for any valid majorant, refined or not. tau by midpoint
+    // quadrature along the ray. kappa varies strongly with T here (k_s 9, k_f 0.5), so the refined
+    // majorants bound kappa(T) through the temperature polynomial too.
+    const Medium medium = sparseMedium();
+    const TemperatureBins bins{0.0, 1.0, 8};
+    const ExtinctionParams extinction{0.4, 9.0, 0.5};
+    std::mt19937 gen(19);
+    std::exponential_distribution<double> exp1(1.0);
+    int refined_rays = 0;
+    for (const double refine : {0.0, std::numeric_limits<double>::infinity()}) {
+        const MajorantGrid grid(medium, extinction, bins, 0.0, refine);
+        for (int r = 0; r < 12; ++r) {
+            const Ray ray = randomRayThrough(medium, gen);
+            double tau = 0.0;
+            constexpr double kDs = 2e-4;
+            for (double s = 0.5 * kDs; s < 20.0; s += kDs) {
+                const MediumSample m = medium.sampleWorld(ray.origin + s * ray.direction);
+                tau += m.density * extinctionPerDensity(m.temperature, extinction, bins) * kDs;
+            }
+            constexpr int kCount = 4000;
+            double sum = 0.0, sum2 = 0.0;
+            bool any_refined = false;
+            for (int n = 0; n < kCount; ++n) {
+                MajorantTracker tracker(grid, ray);
+                TentativeCollision c;
+                double weight = 1.0;
+                while (tracker.advance(exp1(gen), c)) {
+                    const double sigma =
+                        c.sample.density * extinctionPerDensity(c.sample.temperature, extinction, bins);
+                    ASSERT_LE(sigma, c.majorant);
+                    weight *= 1.0 - sigma / c.majorant;
+                    any_refined = any_refined || c.majorant < 0.99 * brickMajorantAt(grid, tracker.worldPoint(c.distance));
+                }
+                sum += weight;
+                sum2 += weight * weight;
+            }
+            refined_rays += any_refined;
+            const double mean = sum / kCount;
+            const double standard_error = std::sqrt(std::max(0.0, sum2 / kCount - mean * mean) / (kCount - 1));
+            // 5 standard errors, and the quadrature's error (< 1e-4 of tau here).
+            EXPECT_NEAR(mean, std::exp(-tau), 5.0 * standard_error + 1e-4 * tau * std::exp(-tau))
+                << "ray " << r << " refine " << refine << " tau " << tau;
+        }
+    }
+    EXPECT_GE(refined_rays, 4) << "refine 0 refined the rays that met density (5 of these 12 do)";
+}
+
+TEST(MajorantGrid, ReachesOpticalDepthOneInsideA1e30BoxInFewSteps) {
+    // Density 1e30: optical depth 1 lies ~1.4e-15 voxel inside the face's ramp, below the rounding
+    // of the distance (~4 from the ray's origin). The tracker must get there in a bounded number of
+    // calls and report collisions at the face: the real optical depth (sum of sigma / majorant over
+    // tentative collisions, whose mean is the optical depth) reaches 20 within a few hundred.
+    const Medium box = Medium::homogeneousBox(glm::dvec3(2.0), glm::ivec3(8), 1e30f, 0.5f);
+    const ExtinctionParams extinction{0.5, 2.0, 2.0};
+    const TemperatureBins bins{0.0, 1.0, 4};
+    const MajorantGrid grid(box, extinction, bins, 0.0);
+    std::mt19937 gen(17);
+    std::exponential_distribution<double> exp1(1.0);
+    for (int r = 0; r < 100; ++r) {
+        MajorantTracker tracker(grid, Ray{glm::dvec3(0.1, -0.2, 5.0), glm::dvec3(0.0, 0.0, -1.0)});
+        TentativeCollision c;
+        double depth = 0.0;
+        int calls = 0;
+        while (depth < 20.0) {
+            ASSERT_TRUE(tracker.advance(exp1(gen), c));
+            ASSERT_LT(++calls, 1000);
+            const double sigma = c.sample.density * extinctionPerDensity(c.sample.temperature, extinction, bins);
+            ASSERT_LE(sigma, c.majorant);
+            depth += sigma / c.majorant;
+        }
+        // The face's ramp starts at z = 1 + 0.125 (half a voxel outside the box): distance 3.875.
+        EXPECT_NEAR(c.distance, 3.875, 1e-12);
+    }
 }
 
 TEST(MajorantGrid, RayMissingTheGridOrStartingInsideIt) {

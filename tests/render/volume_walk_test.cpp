@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <vector>
 
 #include "look/look_model.h"
 #include "render/medium.h"
@@ -23,17 +26,22 @@ const Medium& box() {
 }
 const Ray kThroughBox{glm::dvec3(0.1, -0.2, 5.0), glm::dvec3(0.0, 0.0, -1.0)};
 
+// Under both emission clamping rules (the current one and version 1's), beyond the outer bin
+// centres and the range too.
 TEST(LookEvaluator, MatchesTheLookModel) {
+  for (bool centres : {true, false}) {
     LookModel look = makeLook(4.0, 0.5, 0.45, 0.7, Rgb(0.0f));
     look.emission.coefficients = {Rgb(1, 2, 3), Rgb(0, 0.5f, 0), Rgb(7, 0, 1), Rgb(0.1f, 0.2f, 0.3f)};
+    look.emission.basis.clamp_to_centres = centres;
     const LookEvaluator evaluator(look);
     for (double t = -0.5; t <= 1.5; t += 0.01) {
         EXPECT_NEAR(evaluator.extinction(2.0, t), look.sigmaT(2.0, t), 1e-12);
         const Rgb expected = look.emission.evaluate(t);
         const glm::dvec3 got = evaluator.emissionPerDensity(t);
         // The model evaluates in float: agreement to a few float ulps of the largest term (~7).
-        for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(got[ch], expected[ch], 1e-5) << "T = " << t;
+        for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(got[ch], expected[ch], 1e-5) << "T = " << t << " centres " << centres;
     }
+  }
 }
 
 TEST(LookEvaluator, RejectsLooksThatCannotBeEvaluated) {
@@ -146,6 +154,80 @@ TEST(VolumeWalk, AlbedoOneConservesEveryPhoton) {
     }
     // Optical depth 8: almost every photon scatters, most many times.
     EXPECT_GT(scatterings, 5 * kCount);
+}
+
+// The box above (2 units, 8^3 voxels of 0.25, density 1, T = 0.5) with one voxel of density `spike`
+// at (1, 1, 4): its brick's majorant becomes spike * kappa, far above MajorantGrid::kDefaultRefineOpticalDepth, so rays
+// through that brick follow its interpolation cells instead (majorant_grid.h).
+Medium boxWithSpike(float spike) {
+    std::vector<float> density(512, 1.0f), temperature(512, 0.5f);
+    density[1 + 8 * (1 + 8 * 4)] = spike;
+    glm::dmat4 index_to_world(0.25);
+    index_to_world[3] = glm::dvec4(-0.875, -0.875, -0.875, 1.0);
+    return Medium(glm::ivec3(0), glm::ivec3(8), density, temperature, index_to_world, 0.5f);
+}
+
+// Index x = y = 2.5: through the spike's brick, but only through cells (2, 2, k), which interpolate
+// voxels 2 and 3 on x and y, never the spike: density 1 all along, as in the plain box.
+const Ray kBesideTheSpike{glm::dvec3(-0.25, -0.25, 5.0), glm::dvec3(0.0, 0.0, -1.0)};
+// Index x = y = 1.5: through cells (1, 1, 3) and (1, 1, 4), whose corner the spike is.
+const Ray kThroughTheSpike{glm::dvec3(-0.5, -0.5, 5.0), glm::dvec3(0.0, 0.0, -1.0)};
+
+struct Moments {
+    double mean = 0.0, standard_error = 0.0;
+};
+template <class F>
+Moments moments(int count, F sample) {
+    double sum = 0.0, sum2 = 0.0;
+    for (int n = 0; n < count; ++n) {
+        const double x = sample();
+        sum += x;
+        sum2 += x * x;
+    }
+    const double mean = sum / count;
+    return {mean, std::sqrt(std::max(0.0, sum2 / count - mean * mean) / (count - 1))};
+}
+
+TEST(VolumeWalk, RefinedBricksAreUnbiasedForTransmittanceAndEmission) {
+    // Albedo 0 and uniform T: alpha = 1 - exp(-kappa * 2) and L = L_e / kappa * alpha, as without the
+    // spike, which the ray never meets: the refinement must neither bias nor slow it.
+    for (const float spike : {1e4f, 1e30f}) {
+        const LookModel look = makeLook(0.6, 0.6, 0.3, 0.0, Rgb(1.0f, 2.0f, 0.5f));
+        const Medium medium = boxWithSpike(spike);
+        const VolumeScene scene(medium, look);
+        const double transmittance = std::exp(-0.6 * 2.0);
+        const double radiance = look.emission.evaluate(0.5).g / 0.6 * (1.0 - transmittance);
+        Pcg32 rng(7);
+        constexpr int kCount = 20000;
+        const auto start = std::chrono::steady_clock::now();
+        const Moments t = moments(kCount, [&] { return ratioTrackingTransmittance(scene, kBesideTheSpike, rng); });
+        const Moments l = moments(kCount, [&] {
+            return estimateCameraPath(scene, kBesideTheSpike, rng, WalkSettings{}).radiance.g;
+        });
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        EXPECT_NEAR(t.mean, transmittance, 5.0 * t.standard_error) << "spike " << spike;
+        EXPECT_NEAR(l.mean, radiance, 5.0 * l.standard_error) << "spike " << spike;
+        // 40000 paths of a few dozen collisions: ~0.05 s; unbounded would be hours.
+        EXPECT_LT(seconds, 5.0) << "spike " << spike;
+    }
+}
+
+TEST(VolumeWalk, ARayThroughTheSpikesRampSeesTheSourceFunction) {
+    // The spike's cells ramp its density up to ~1e30 / 4 on this ray: opaque, and with uniform T the
+    // radiance is exactly the source function L_e / kappa.
+    const LookModel look = makeLook(0.6, 0.6, 0.3, 0.0, Rgb(1.0f, 2.0f, 0.5f));
+    const Medium medium = boxWithSpike(1e30f);
+    const VolumeScene scene(medium, look);
+    Pcg32 rng(8);
+    constexpr int kCount = 20000;
+    const Moments t = moments(kCount, [&] { return ratioTrackingTransmittance(scene, kThroughTheSpike, rng); });
+    EXPECT_EQ(t.mean, 0.0);
+    const Moments l = moments(kCount, [&] {
+        const PathEstimate e = estimateCameraPath(scene, kThroughTheSpike, rng, WalkSettings{});
+        EXPECT_EQ(e.transmittance, 0.0);
+        return e.radiance.g;
+    });
+    EXPECT_NEAR(l.mean, look.emission.evaluate(0.5).g / 0.6, 5.0 * l.standard_error + 1e-9);
 }
 
 }  // namespace

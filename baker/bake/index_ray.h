@@ -1,0 +1,51 @@
+// Rays in a medium's index space and the fixed-step march every pass of the basis tracer uses.
+#pragma once
+
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include "render/medium.h"
+#include "render/ray.h"
+
+namespace firelook::bake {
+
+// A world ray expressed in the medium's index space, parameterised by world distance.
+struct IndexRay {
+    glm::dvec3 origin;
+    glm::dvec3 direction;  // index-space displacement per world unit
+};
+
+inline IndexRay toIndexSpace(const render::Medium& medium, const glm::dvec3& origin, const glm::dvec3& direction) {
+    const glm::dmat4& w2i = medium.worldToIndex();
+    return {glm::dvec3(w2i * glm::dvec4(origin, 1.0)), glm::dmat3(w2i) * direction};
+}
+
+// An index-space box; the influence box [origin - 1, origin + dims] is where interpolated values
+// can be non-zero.
+struct IndexBox {
+    glm::dvec3 lo, hi;
+};
+
+inline IndexBox influenceBox(const render::Medium& medium) {
+    return {glm::dvec3(medium.origin()) - 1.0, glm::dvec3(medium.origin() + medium.dims())};
+}
+
+inline bool clipToBox(const IndexRay& ray, const IndexBox& box, double& t0, double& t1) {
+    return render::intersectBox(ray.origin, ray.direction, box.lo, box.hi, t0, t1);
+}
+
+// Marches from t_start to t_end in steps of `step` world units, calling
+// visit(index_point_mid, step_length, rho, t) at each step's midpoint; visit returns false to stop.
+template <typename Visit>
+void march(const render::Medium& medium, const IndexRay& ray, double t_start, double t_end, double step,
+           Visit&& visit) {
+    for (double t = t_start; t < t_end; t += step) {
+        const double dt = std::min(step, t_end - t);
+        const glm::dvec3 p = ray.origin + (t + 0.5 * dt) * ray.direction;
+        const render::MediumSample s = medium.sampleIndex(p);
+        if (!visit(p, static_cast<float>(dt), s.density, s.temperature)) return;
+    }
+}
+
+}  // namespace firelook::bake

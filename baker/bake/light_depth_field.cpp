@@ -1,0 +1,107 @@
+#include "bake/light_depth_field.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
+#include "bake/index_ray.h"
+
+namespace firelook::bake {
+namespace {
+// Below this transmittance at the thinnest grid point the light adds nothing visible.
+constexpr float kNegligibleTransmittance = 1e-5f;
+}  // namespace
+
+void LightDepthField::sample(int light, const glm::dvec3& index_point, float* smoke, float* flame) const {
+    const glm::dvec3 u =
+        glm::clamp((index_point - origin) / static_cast<double>(spacing), glm::dvec3(0.0), glm::dvec3(count - 1));
+    const glm::ivec3 base = glm::min(glm::ivec3(glm::floor(u)), glm::max(count - 2, glm::ivec3(0)));
+    const glm::dvec3 f = u - glm::dvec3(base);
+    for (int a = 0; a < n_tc; ++a) smoke[a] = flame[a] = 0.0f;
+    const std::size_t points = static_cast<std::size_t>(count.x) * count.y * count.z;
+    for (int c = 0; c < 8; ++c) {
+        const glm::ivec3 p = glm::min(base + glm::ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1), count - 1);
+        const float w = static_cast<float>(((c & 1) ? f.x : 1.0 - f.x) * (((c >> 1) & 1) ? f.y : 1.0 - f.y) *
+                                           (((c >> 2) & 1) ? f.z : 1.0 - f.z));
+        if (w <= 0.0f) continue;
+        const float* d = depths.data() + (static_cast<std::size_t>(light) * points + p.x +
+                                          static_cast<std::size_t>(count.x) * (p.y + static_cast<std::size_t>(count.y) * p.z)) *
+                                             2 * n_tc;
+        for (int a = 0; a < n_tc; ++a) {
+            smoke[a] += w * d[a];
+            flame[a] += w * d[n_tc + a];
+        }
+    }
+}
+
+int lightLatticeSpacing(const render::Medium& medium, int max_per_axis) {
+    const glm::ivec3 points = medium.dims() + 2;
+    const int longest = std::max({points.x, points.y, points.z});
+    const int per_axis = std::max(max_per_axis, 2);
+    return std::max(1, (longest + per_axis - 1) / per_axis);
+}
+
+glm::ivec3 lightLatticeCount(const render::Medium& medium, int spacing) {
+    // Points at origin + spacing * i up to (and including) the first at or beyond the box's end.
+    return (medium.dims() + 1 + spacing - 1) / spacing + 1;
+}
+
+LightDepthField buildLightDepths(const render::Medium& medium, const BasisModel& model, const TraceTables& tb,
+                                 const ScatterCells& cells, int spacing, double step_voxels) {
+    LightDepthField field;
+    field.origin = influenceBox(medium).lo;
+    field.spacing = spacing;
+    field.count = lightLatticeCount(medium, spacing);
+    field.n_tc = tb.n_tc;
+    const std::size_t points = static_cast<std::size_t>(field.count.x) * field.count.y * field.count.z;
+    field.depths.assign(points * tb.lights * 2 * tb.n_tc, 0.0f);
+    const IndexBox box = influenceBox(medium);
+    const double step = step_voxels * spacing * medium.minVoxelEdge();
+    // A lattice point is read only by samples within one spacing of it, and samples only where
+    // there is density: points whose neighbourhood of cells has none are skipped.
+    const auto needed = [&](const glm::dvec3& p) {
+        const glm::ivec3 c(glm::floor((p - cells.origin) / static_cast<double>(cells.edge)));
+        const int reach = (spacing + cells.edge - 1) / cells.edge;
+        for (int dz = -reach; dz <= reach; ++dz)
+            for (int dy = -reach; dy <= reach; ++dy)
+                for (int dx = -reach; dx <= reach; ++dx) {
+                    const glm::ivec3 n = c + glm::ivec3(dx, dy, dz);
+                    if (glm::any(glm::lessThan(n, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(n, cells.count)))
+                        continue;
+                    if (cells.slot[cells.cellIndex(n)] >= 0) return true;
+                }
+        return false;
+    };
+    for (int l = 0; l < tb.lights; ++l) {
+        const glm::dvec3 toward_light = -glm::normalize(model.light_directions[l]);
+        tbb::parallel_for(0, field.count.z, [&](int z) {
+            float smoke[kMaxAxisSamples], flame[kMaxAxisSamples], s[kMaxAxisSamples], f[kMaxAxisSamples];
+            for (int y = 0; y < field.count.y; ++y)
+                for (int x = 0; x < field.count.x; ++x) {
+                    const glm::dvec3 p = field.origin + glm::dvec3(x, y, z) * static_cast<double>(spacing);
+                    if (!needed(p)) continue;
+                    const IndexRay ray =
+                        toIndexSpace(medium, glm::dvec3(medium.indexToWorld() * glm::dvec4(p, 1.0)), toward_light);
+                    double t0, t1;
+                    if (!clipToBox(ray, box, t0, t1)) continue;
+                    std::fill(smoke, smoke + tb.n_tc, 0.0f);
+                    std::fill(flame, flame + tb.n_tc, 0.0f);
+                    march(medium, ray, 0.0, t1, step, [&](const glm::dvec3&, float dt, float rho, float t) {
+                        if (rho <= 0.0f) return true;
+                        tb.split(rho, t, s, f);
+                        tb.advanceDepths(s, f, dt, smoke, flame);
+                        return tb.maxTransmittance(smoke, flame) > kNegligibleTransmittance;
+                    });
+                    float* out = field.depths.data() +
+                                 (l * points + x + static_cast<std::size_t>(field.count.x) *
+                                                       (y + static_cast<std::size_t>(field.count.y) * z)) *
+                                     2 * tb.n_tc;
+                    std::copy(smoke, smoke + tb.n_tc, out);
+                    std::copy(flame, flame + tb.n_tc, out + tb.n_tc);
+                }
+        });
+    }
+    return field;
+}
+
+}  // namespace firelook::bake

@@ -1,0 +1,172 @@
+#include "bake/photon_pass.h"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <glm/mat3x3.hpp>
+#include <numbers>
+
+#include "bake/index_ray.h"
+
+namespace firelook::bake {
+namespace {
+
+constexpr float kInv4Pi = static_cast<float>(0.25 / std::numbers::pi);
+// Photons of one pass are split into this many chunks with their own accumulation buffers, summed
+// in a fixed order, so the result does not depend on the number of threads. Chunks run two at a
+// time: memory holds the result and two buffers whatever the machine.
+constexpr int kPhotonChunks = 4;
+constexpr int kChunksAtOnce = 2;
+// Below this transmittance at the thinnest grid point a path adds nothing visible.
+constexpr float kNegligibleTransmittance = 1e-5f;
+
+glm::dvec3 uniformDirection(render::Pcg32& rng) {
+    const double z = 1.0 - 2.0 * rng.uniform();
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    const double phi = 2.0 * std::numbers::pi * rng.uniform();
+    return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+void traceChunk(const TransportContext& ctx, SourceKind kind, const PhotonStartSampler& sampler,
+                const std::vector<float>* previous, int photons, std::uint64_t seed, int chunk,
+                std::vector<float>& field) {
+    const TraceTables& tb = ctx.tables;
+    const int G = tb.points, C = tb.columns;
+    field.assign(ctx.field_size, 0.0f);
+    std::vector<float> weight(static_cast<std::size_t>(G) * C);
+    std::vector<float> tau(G), tau_next(G), sigma_t(G), ltau(G), cell_sum(G);
+    float smoke[kMaxAxisSamples], flame[kMaxAxisSamples], d_smoke[kMaxAxisSamples], d_flame[kMaxAxisSamples],
+        lsm[kMaxAxisSamples], lfl[kMaxAxisSamples];
+    int interp_slots[8];
+    float interp_w[8];
+    // The cells span the influence box in whole cells; tracks run to their end, where the outer
+    // cells stop.
+    const IndexBox cell_box{ctx.cells.origin, ctx.cells.origin + glm::dvec3(ctx.cells.count * ctx.cells.edge)};
+    // pdf per unit index volume -> per unit world volume.
+    const double voxel_volume = std::fabs(glm::determinant(glm::dmat3(ctx.medium.indexToWorld())));
+    const int first = static_cast<int>(static_cast<int64_t>(photons) * chunk / kPhotonChunks);
+    const int last = static_cast<int>(static_cast<int64_t>(photons) * (chunk + 1) / kPhotonChunks);
+    for (int n = first; n < last; ++n) {
+        if ((n & 255) == 0 && ctx.stop.load(std::memory_order_relaxed)) return;
+        render::Pcg32 rng = render::Pcg32::forSample(seed, static_cast<uint64_t>(kind), static_cast<uint64_t>(n));
+        const PhotonStartSampler::Start start = sampler.sample(rng);
+        const render::MediumSample at = ctx.medium.sampleIndex(start.point);
+        const double pdf = start.pdf / voxel_volume;
+        if (!(pdf > 0.0) || !(at.density > 0.0f)) continue;
+        // Track-length estimator of integral_cell sigma_s Lbar dV: (Q / p) integral sigma_s tau ds / N.
+        const float scale = static_cast<float>(1.0 / (pdf * photons));
+        int bin_first = 0, bin_last = 0;
+        bool any = false;
+        std::fill(weight.begin(), weight.end(), 0.0f);
+        if (kind == SourceKind::Emission) {
+            tb.binWindow(at.temperature, bin_first, bin_last);
+            for (int i = bin_first; i < bin_last; ++i) {
+                const float w = at.density * tb.rbf(i, at.temperature) * scale;
+                weight[i] = w;  // independent of the grid point: stored once in row 0
+                any = any || w > 0.0f;
+            }
+        } else {
+            tb.split(at.density, at.temperature, smoke, flame);
+            tb.extinction(smoke, flame, sigma_t.data());
+            if (kind == SourceKind::LightScatter) {
+                for (int l = 0; l < tb.lights; ++l) {
+                    ctx.light_depths.sample(l, start.point, lsm, lfl);
+                    tb.transmittance(lsm, lfl, ltau.data());
+                    for (int g = 0; g < G; ++g) {
+                        const float w = tb.albedo * sigma_t[g] * ltau[g] * kInv4Pi * scale;
+                        weight[g * C + tb.bins + l] = w;
+                        any = any || w > 0.0f;
+                    }
+                }
+            } else {
+                const int n_corner = ctx.cells.corners(start.point, interp_slots, interp_w);
+                for (int c = 0; c < n_corner; ++c) {
+                    const float* src = previous->data() + static_cast<std::size_t>(interp_slots[c]) * G * C;
+                    for (int g = 0; g < G; ++g) {
+                        const float k = interp_w[c] * tb.albedo * sigma_t[g] * scale;
+                        for (int col = 0; col < C; ++col) weight[g * C + col] += k * src[g * C + col];
+                    }
+                }
+                for (float w : weight) any = any || w > 0.0f;
+            }
+        }
+        if (!any) continue;
+
+        // Columns this photon carries: a window of bins, or the light columns, or all.
+        int col_first = 0, col_last = C;
+        if (kind == SourceKind::Emission) {
+            col_first = bin_first;
+            col_last = bin_last;
+        } else if (kind == SourceKind::LightScatter) {
+            col_first = tb.bins;
+        }
+
+        const glm::dvec3 direction = uniformDirection(rng);
+        const IndexRay ray{start.point, glm::dmat3(ctx.medium.worldToIndex()) * direction};
+        double t0, t1;
+        if (!clipToBox(ray, cell_box, t0, t1)) continue;
+        std::fill(d_smoke, d_smoke + tb.n_tc, 0.0f);
+        std::fill(d_flame, d_flame + tb.n_tc, 0.0f);
+        std::fill(tau.begin(), tau.end(), 1.0f);
+        // sigma_s * tau is summed per grid point while the track stays in one cell and deposited
+        // (times the photon's weights) when it leaves: G*C work per cell crossed, not per step.
+        int current_slot = -1;
+        std::fill(cell_sum.begin(), cell_sum.end(), 0.0f);
+        const auto deposit = [&] {
+            if (current_slot < 0) return;
+            float* out = field.data() + static_cast<std::size_t>(current_slot) * G * C;
+            for (int g = 0; g < G; ++g) {
+                const float sum = cell_sum[g];
+                if (sum == 0.0f) continue;
+                const float* w = kind == SourceKind::Emission ? weight.data() : weight.data() + g * C;
+                for (int col = col_first; col < col_last; ++col) out[g * C + col] += sum * w[col];
+                cell_sum[g] = 0.0f;
+            }
+        };
+        march(ctx.medium, ray, 0.0, t1, ctx.track_step, [&](const glm::dvec3& p, float dt, float rho, float t) {
+            if (!(rho > 0.0f)) return true;  // no extinction, no scattering: tau stays
+            tb.split(rho, t, smoke, flame);
+            tb.advanceDepths(smoke, flame, dt, d_smoke, d_flame);
+            tb.transmittance(d_smoke, d_flame, tau_next.data());
+            const int slot = ctx.cells.slotAt(p);
+            if (slot != current_slot) {
+                deposit();
+                current_slot = slot;
+            }
+            if (slot >= 0) {
+                tb.extinction(smoke, flame, sigma_t.data());
+                for (int g = 0; g < G; ++g)
+                    cell_sum[g] += tb.albedo * sigma_t[g] * stepPathLength(tau[g], tau_next[g], sigma_t[g], dt);
+            }
+            tau.swap(tau_next);
+            return tb.maxTransmittance(d_smoke, d_flame) > kNegligibleTransmittance;
+        });
+        deposit();
+    }
+}
+
+}  // namespace
+
+std::size_t photonPassBytes(std::size_t field_size) { return (1 + kChunksAtOnce) * field_size * sizeof(float); }
+
+std::vector<float> photonPass(const TransportContext& ctx, SourceKind kind, const PhotonStartSampler& sampler,
+                              const std::vector<float>* previous, int photons, std::uint64_t seed) {
+    std::vector<float> total;
+    std::vector<std::vector<float>> buffers(kChunksAtOnce);
+    for (int first = 0; first < kPhotonChunks; first += kChunksAtOnce) {
+        tbb::parallel_for(0, kChunksAtOnce, [&](int b) {
+            traceChunk(ctx, kind, sampler, previous, photons, seed, first + b, buffers[b]);
+        });
+        for (int b = 0; b < kChunksAtOnce; ++b) {
+            if (total.empty()) {
+                total.swap(buffers[b]);
+                continue;
+            }
+            for (std::size_t i = 0; i < total.size(); ++i) total[i] += buffers[b][i];
+        }
+    }
+    ctx.cells.normalise(total, ctx.tables.points, ctx.tables.columns);
+    return total;
+}
+
+}  // namespace firelook::bake

@@ -1,0 +1,41 @@
+// One scattering order of the basis tracer: photons start at points drawn from one kind of source,
+// fly straight in a uniform direction, and deposit into each cell they cross the integral of
+// sigma_s * tau over their track inside it (exact per step: albedo * (tau_start - tau_end)),
+// for every grid point at once. Divided by the cell's sigma_s mass (ScatterCells), that is the
+// sigma_s-weighted mean radiance Lbar the order's source produces.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+#include "bake/light_depth_field.h"
+#include "bake/photon_start_sampler.h"
+#include "bake/scatter_cells.h"
+#include "bake/trace_tables.h"
+#include "render/medium.h"
+
+namespace firelook::bake {
+
+struct TransportContext {
+    const render::Medium& medium;
+    const TraceTables& tables;
+    const ScatterCells& cells;
+    const LightDepthField& light_depths;
+    double track_step;       // world units
+    std::size_t field_size;  // slots * points * columns
+    const std::atomic<bool>& stop;  // set to abandon the pass (its result is then meaningless)
+};
+
+enum class SourceKind { Emission, LightScatter, Scattered };
+
+// Lbar per slot, grid point and column produced by `photons` photons from one kind of source.
+// `previous` (for Scattered) is the Lbar of the previous order. The result does not depend on the
+// number of threads.
+std::vector<float> photonPass(const TransportContext& ctx, SourceKind kind, const PhotonStartSampler& sampler,
+                              const std::vector<float>* previous, int photons, std::uint64_t seed);
+
+// Bytes photonPass holds at its peak besides its inputs: its result and the accumulation buffers.
+std::size_t photonPassBytes(std::size_t field_size);
+
+}  // namespace firelook::bake

@@ -1,0 +1,118 @@
+#include "bake/scatter_cells.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <glm/mat3x3.hpp>
+
+#include "bake/index_ray.h"
+
+namespace firelook::bake {
+
+int ScatterCells::slotAt(const glm::dvec3& index_point) const {
+    const glm::dvec3 u = (index_point - origin) / static_cast<double>(edge);
+    const glm::ivec3 c(glm::floor(u));
+    if (c.x < 0 || c.y < 0 || c.z < 0 || c.x >= count.x || c.y >= count.y || c.z >= count.z) return -1;
+    return slot[cellIndex(c)];
+}
+
+int ScatterCells::corners(const glm::dvec3& index_point, int* slots_out, float* weights_out) const {
+    const glm::dvec3 u = (index_point - origin) / static_cast<double>(edge) - 0.5;
+    const glm::dvec3 base = glm::floor(u);
+    const glm::dvec3 f = u - base;
+    int n = 0;
+    float total = 0.0f;
+    for (int c = 0; c < 8; ++c) {
+        glm::ivec3 cell(base);
+        cell.x += c & 1;
+        cell.y += (c >> 1) & 1;
+        cell.z += (c >> 2) & 1;
+        cell = glm::clamp(cell, glm::ivec3(0), count - 1);
+        const float w = static_cast<float>(((c & 1) ? f.x : 1.0 - f.x) * (((c >> 1) & 1) ? f.y : 1.0 - f.y) *
+                                           (((c >> 2) & 1) ? f.z : 1.0 - f.z));
+        const int s = slot[cellIndex(cell)];
+        if (s < 0 || w <= 0.0f) continue;
+        slots_out[n] = s;
+        weights_out[n] = w;
+        total += w;
+        ++n;
+    }
+    // A point with density lies in a cell with density, whose centre has weight >= 1/8 here.
+    for (int c = 0; c < n; ++c) weights_out[c] /= total;
+    return n;
+}
+
+void ScatterCells::normalise(std::vector<float>& field, int points, int columns) const {
+    tbb::parallel_for(0, slots, [&](int s) {
+        for (int g = 0; g < points; ++g) {
+            const float m = mass[static_cast<std::size_t>(s) * points + g];
+            const float inv = m > 0.0f ? 1.0f / m : 0.0f;
+            float* v = field.data() + (static_cast<std::size_t>(s) * points + g) * columns;
+            for (int c = 0; c < columns; ++c) v[c] *= inv;
+        }
+    });
+}
+
+int scatterCellEdge(const render::Medium& medium, int min_voxels, int max_per_axis) {
+    const glm::ivec3 points = medium.dims() + 2;
+    const int longest = std::max({points.x, points.y, points.z});
+    const int by_extent = (longest + std::max(max_per_axis, 1) - 1) / std::max(max_per_axis, 1);
+    return std::max({min_voxels, by_extent, 1});
+}
+
+std::size_t scatterCellCount(const render::Medium& medium, int edge) {
+    const glm::ivec3 count = glm::max((medium.dims() + 2 + edge - 1) / edge, glm::ivec3(1));
+    return static_cast<std::size_t>(count.x) * count.y * count.z;
+}
+
+ScatterCells buildScatterCells(const render::Medium& medium, const TraceTables& tb, int edge) {
+    ScatterCells cells;
+    cells.edge = std::max(edge, 1);
+    cells.origin = influenceBox(medium).lo;
+    cells.count = glm::max((medium.dims() + 2 + cells.edge - 1) / cells.edge, glm::ivec3(1));
+    const std::size_t n_cells = static_cast<std::size_t>(cells.count.x) * cells.count.y * cells.count.z;
+    // Per cell, the integrals of the smoke and flame parts of the density per sampled T_c: sigma_s
+    // of every grid point is a linear combination of them, so 2 n_tc sums give all G masses.
+    const int parts = 2 * tb.n_tc;
+    std::vector<double> part_sums(n_cells * parts, 0.0);
+    // One task per layer of cells: the cubes of a layer only touch that layer's cells.
+    tbb::parallel_for(0, cells.count.z, [&](int cz) {
+        float smoke[kMaxAxisSamples], flame[kMaxAxisSamples];
+        forEachCubeInSlab(medium, cz * cells.edge, (cz + 1) * cells.edge,
+                          [&](const glm::ivec3& q, float rho, float t) {
+                              const glm::ivec3 c = (q - glm::ivec3(cells.origin)) / cells.edge;
+                              if (c.x >= cells.count.x || c.y >= cells.count.y) return;
+                              double* sums = part_sums.data() + cells.cellIndex(c) * parts;
+                              tb.split(rho, t, smoke, flame);
+                              for (int a = 0; a < tb.n_tc; ++a) {
+                                  sums[a] += smoke[a];
+                                  sums[tb.n_tc + a] += flame[a];
+                              }
+                          });
+    });
+    cells.slot.assign(n_cells, -1);
+    for (std::size_t c = 0; c < n_cells; ++c) {
+        bool any = false;
+        for (int a = 0; a < parts && !any; ++a) any = part_sums[c * parts + a] > 0.0;
+        if (any) cells.slot[c] = cells.slots++;
+    }
+    // One sample per unit cube is the midpoint rule of the trilinear density (exact for it); the
+    // cube's world volume is the voxel's.
+    const double voxel_volume = std::fabs(glm::determinant(glm::dmat3(medium.indexToWorld())));
+    cells.mass.assign(static_cast<std::size_t>(cells.slots) * tb.points, 0.0f);
+    for (std::size_t c = 0; c < n_cells; ++c) {
+        const int s = cells.slot[c];
+        if (s < 0) continue;
+        const double* sums = part_sums.data() + c * parts;
+        int g = 0;
+        for (int a = 0; a < tb.n_tc; ++a)
+            for (int ks = 0; ks < tb.n_ks; ++ks)
+                for (int kf = 0; kf < tb.n_kf; ++kf)
+                    cells.mass[static_cast<std::size_t>(s) * tb.points + g++] = static_cast<float>(
+                        tb.albedo * (tb.ks[ks] * sums[a] + tb.kf[kf] * sums[tb.n_tc + a]) * voxel_volume);
+    }
+    return cells;
+}
+
+}  // namespace firelook::bake

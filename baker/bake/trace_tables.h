@@ -1,0 +1,135 @@
+// The look model flattened into tables for the basis tracer's inner loops: the smoke/flame split
+// of the extinction per sampled T_c, the transmittance of every grid point and the emission RBFs
+// (docs/model.md). Shared by the photon passes and the camera pass.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "bake/basis_tracer.h"
+
+namespace firelook::bake {
+
+// phi(u) = exp(-(u/w)^2) < 1e-7 beyond |u| > 4 w: bins further away are skipped.
+inline constexpr double kRbfSupport = 4.0;
+// Arrays on the stack hold one value per sampled T_c (or per axis sample): the model is checked
+// against this bound before tracing.
+inline constexpr int kMaxAxisSamples = 64;
+
+struct TraceTables {
+    int n_tc = 0, n_ks = 0, n_kf = 0, points = 0, bins = 0, lights = 0, columns = 0, n_alpha = 0;
+    std::vector<float> tc, ks, kf, alpha_tc, bin_centre;
+    float t_lo = 0, t_hi = 0, emission_t_lo = 0, emission_t_hi = 0, inv_2dt = 0, inv_rbf_width = 0,
+          rbf_reach = 0, albedo = 0;
+
+    explicit TraceTables(const BasisModel& m) {
+        n_tc = static_cast<int>(m.axes.temperature_threshold.size());
+        n_ks = static_cast<int>(m.axes.smoke_extinction.size());
+        n_kf = static_cast<int>(m.axes.flame_extinction.size());
+        points = n_tc * n_ks * n_kf;
+        bins = m.bins.count;
+        lights = static_cast<int>(m.light_directions.size());
+        columns = bins + lights;
+        n_alpha = static_cast<int>(m.alpha_thresholds.size());
+        for (double v : m.axes.temperature_threshold) tc.push_back(static_cast<float>(v));
+        for (double v : m.axes.smoke_extinction) ks.push_back(static_cast<float>(v));
+        for (double v : m.axes.flame_extinction) kf.push_back(static_cast<float>(v));
+        for (double v : m.alpha_thresholds) alpha_tc.push_back(static_cast<float>(v));
+        for (int i = 0; i < bins; ++i) bin_centre.push_back(static_cast<float>(m.bins.center(i)));
+        t_lo = static_cast<float>(m.bins.t_lo);
+        t_hi = static_cast<float>(m.bins.t_hi);
+        // Emission holds its outer bins' values beyond their centres (docs/model.md); the
+        // version-1 rule clamped to the range ends instead.
+        const bool centres = m.emission_clamp_to_centres;
+        emission_t_lo = centres ? bin_centre.front() : t_lo;
+        emission_t_hi = centres ? bin_centre.back() : t_hi;
+        inv_2dt = static_cast<float>(1.0 / (2.0 * m.bins.width()));
+        inv_rbf_width = static_cast<float>(1.0 / (m.rbf_width * m.bins.width()));
+        rbf_reach = static_cast<float>(kRbfSupport * m.rbf_width * m.bins.width());
+        albedo = static_cast<float>(m.albedo);
+    }
+
+    float clampT(float t) const { return t >= t_lo ? (t <= t_hi ? t : t_hi) : t_lo; }
+    float clampEmissionT(float t) const {
+        return t >= emission_t_lo ? (t <= emission_t_hi ? t : emission_t_hi) : emission_t_lo;
+    }
+
+    // rho (1 -+ f(T - T_c)) / 2 for every sampled T_c: extinction is k_s*smoke + k_f*flame.
+    void split(float rho, float t, float* smoke, float* flame) const {
+        const float tcl = clampT(t);
+        for (int i = 0; i < n_tc; ++i) {
+            const float f = std::tanh((tcl - tc[i]) * inv_2dt);
+            smoke[i] = 0.5f * rho * (1.0f - f);
+            flame[i] = 0.5f * rho * (1.0f + f);
+        }
+    }
+
+    // tau_g = exp(-k_s D_s(T_c) - k_f D_f(T_c)) for every grid point g, factorised
+    // so that only n_tc * (n_ks + n_kf) exponentials are evaluated.
+    void transmittance(const float* d_smoke, const float* d_flame, float* tau) const {
+        float es[kMaxAxisSamples], ef[kMaxAxisSamples];
+        int g = 0;
+        for (int a = 0; a < n_tc; ++a) {
+            for (int s = 0; s < n_ks; ++s) es[s] = std::exp(-ks[s] * d_smoke[a]);
+            for (int f = 0; f < n_kf; ++f) ef[f] = std::exp(-kf[f] * d_flame[a]);
+            for (int s = 0; s < n_ks; ++s)
+                for (int f = 0; f < n_kf; ++f) tau[g++] = es[s] * ef[f];
+        }
+    }
+
+    void advanceDepths(const float* smoke, const float* flame, float dt, float* depth_smoke,
+                       float* depth_flame) const {
+        for (int a = 0; a < n_tc; ++a) {
+            depth_smoke[a] += smoke[a] * dt;
+            depth_flame[a] += flame[a] * dt;
+        }
+    }
+
+    // Largest transmittance over the grid (smallest k_s and k_f, every T_c).
+    float maxTransmittance(const float* d_smoke, const float* d_flame) const {
+        float best = 0.0f;
+        for (int a = 0; a < n_tc; ++a) best = std::max(best, std::exp(-ks[0] * d_smoke[a] - kf[0] * d_flame[a]));
+        return best;
+    }
+
+    // sigma_t per grid point (per unit length, density included).
+    void extinction(const float* smoke, const float* flame, float* sigma_t) const {
+        int g = 0;
+        for (int a = 0; a < n_tc; ++a)
+            for (int s = 0; s < n_ks; ++s)
+                for (int f = 0; f < n_kf; ++f) sigma_t[g++] = ks[s] * smoke[a] + kf[f] * flame[a];
+    }
+
+    // Bins whose RBF is non-negligible at temperature t: [first, last).
+    void binWindow(float t, int& first, int& last) const {
+        const float tcl = clampEmissionT(t);
+        first = bins;
+        last = 0;
+        for (int i = 0; i < bins; ++i) {
+            if (std::fabs(tcl - bin_centre[i]) <= rbf_reach) {
+                first = std::min(first, i);
+                last = i + 1;
+            }
+        }
+        if (last <= first) first = last = 0;
+    }
+
+    float rbf(int i, float t) const {
+        const float u = (clampEmissionT(t) - bin_centre[i]) * inv_rbf_width;
+        return std::exp(-u * u);
+    }
+};
+
+// One march step integrated exactly for piecewise-constant sigma_t: the transmittance drops from
+// tau_start to tau_end = tau_start exp(-sigma_t dt), and integral(tau ds) over the step is
+// (tau_start - tau_end) / sigma_t. So a source proportional to sigma_t (scattering) adds
+// albedo * (tau_start - tau_end) and one that is not (emission) adds j (tau_start - tau_end) / sigma_t:
+// an optically thick step gives j / sigma_t, the thick-emitter limit, at any step length.
+inline float stepPathLength(float tau_start, float tau_end, float sigma_t, float dt) {
+    const float x = sigma_t * dt;
+    if (x < 1e-3f) return tau_start * dt * (1.0f - 0.5f * x + x * x * (1.0f / 6.0f));  // series: no cancellation
+    return (tau_start - tau_end) / sigma_t;
+}
+
+}  // namespace firelook::bake

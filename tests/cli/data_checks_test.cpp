@@ -1,0 +1,254 @@
+// Telling the truth about the data (issue 13 C), end to end: every command that reads a sequence
+// warns on stderr about cleaned and clamped values (one line per frame and grid) and about gaps,
+// refuses implausible values unless --clamp-extreme, and --strict turns each warning into the
+// one-line error. Sequences are tiny VDB files written here with OpenVDB.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "../vdb/vdb_test_files.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using firelook::vdb::testing::makeGrid;
+using firelook::vdb::testing::TempDir;
+using firelook::vdb::testing::Voxels;
+using firelook::vdb::testing::writeVdb;
+using nlohmann::json;
+using ::testing::HasSubstr;
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+struct Result {
+    int exit_code = -1;
+    std::string out, err;
+};
+
+std::string readFile(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// Runs `firelook <args>` in `dir` (stdout and stderr captured in a separate folder).
+Result run(const TempDir& dir, const std::string& args) {
+    const TempDir logs;
+    const std::string command = "cd '" + dir.path().string() + "' && '" FIRELOOK_EXE "' " + args + " > '" +
+                                (logs / "out").string() + "' 2> '" + (logs / "err").string() + "' < /dev/null";
+    const int status = std::system(command.c_str());
+    Result r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = readFile(logs / "out");
+    r.err = readFile(logs / "err");
+    return r;
+}
+
+std::vector<std::string> lines(const std::string& text) {
+    std::vector<std::string> out;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);)
+        if (!line.empty()) out.push_back(line);
+    return out;
+}
+
+std::vector<std::string> warnings(const Result& r) {
+    std::vector<std::string> out;
+    for (const std::string& line : lines(r.err))
+        if (line.rfind("firelook: warning: ", 0) == 0) out.push_back(line.substr(19));
+    return out;
+}
+
+void expectOneLineError(const Result& r, const std::string& mentions) {
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    int error_lines = 0;
+    for (const std::string& line : lines(r.err)) error_lines += line.rfind("firelook: error:", 0) == 0;
+    EXPECT_EQ(error_lines, 1) << r.err;
+    EXPECT_THAT(r.err, HasSubstr(mentions));
+}
+
+// A 6^3 block of density 1 whose temperature rises from 0 to 3 along x.
+Voxels block(float density) {
+    Voxels v;
+    for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j)
+            for (int k = 0; k < 6; ++k) v.push_back({openvdb::Coord(i, j, k), density});
+    return v;
+}
+Voxels ramp() {
+    Voxels v = block(0.0f);
+    for (auto& [coord, value] : v) value = 3.0f * float(coord.x()) / 5.0f;
+    return v;
+}
+
+std::string frameFile(const fs::path& seq, int frame) {
+    char name[32];
+    std::snprintf(name, sizeof name, "fire_%04d.vdb", frame);
+    return (seq / name).string();
+}
+
+void writeFrame(const fs::path& seq, int frame, const Voxels& density, const Voxels& temperature) {
+    fs::create_directories(seq);
+    writeVdb(frameFile(seq, frame), {makeGrid("density", density), makeGrid("temperature", temperature)});
+}
+
+// Frame 1 of `seq` with 2 NaN, 1 Inf and 1 negative density and 1 Inf temperature.
+void writeDirtyFrame(const fs::path& seq, int frame) {
+    Voxels density = block(1.0f), temperature = ramp();
+    density[0].second = kNaN;
+    density[1].second = kNaN;
+    density[2].second = kInf;
+    density[3].second = -0.5f;
+    temperature[10].second = kInf;
+    writeFrame(seq, frame, density, temperature);
+}
+
+const char* const kTinyBake = R"({
+    "bins": 4, "t_lo": 0, "t_hi": 3,
+    "axes": {"temperature_threshold": [1.0, 2.0], "smoke_extinction": 4, "flame_extinction": 1.5},
+    "alpha_threshold_samples": 3,
+    "trace": {"photons_primary": 2000, "photons_per_order": 1000, "max_orders": 3, "cell_voxels": 8}
+})";
+
+TEST(CliDataChecks, InfoWarnsAboutCleanedValuesAndShowsThem) {
+    TempDir dir;
+    writeDirtyFrame(dir / "seq", 1);
+    Result r = run(dir, "info seq");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(warnings(r), (std::vector<std::string>{"seq/fire_0001.vdb: density: 2 NaN, 1 Inf, 1 negative values set to 0",
+                                                      "seq/fire_0001.vdb: temperature: 0 NaN, 1 Inf values set to 0"}))
+        << r.err;
+    EXPECT_THAT(r.out, HasSubstr("frame 1: seq/fire_0001.vdb: density: 2 NaN, 1 Inf, 1 negative values set to 0"));
+    EXPECT_THAT(r.out, HasSubstr("frame 1: seq/fire_0001.vdb: temperature: 0 NaN, 1 Inf values set to 0"));
+
+    r = run(dir, "info --json seq");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json cleaned = json::parse(r.out).at("frames")[0].at("cleaned");
+    EXPECT_EQ(cleaned.at("density").at("nan"), 2);
+    EXPECT_EQ(cleaned.at("density").at("inf"), 1);
+    EXPECT_EQ(cleaned.at("density").at("negative"), 1);
+    EXPECT_EQ(cleaned.at("temperature").at("inf"), 1);
+    EXPECT_EQ(cleaned.at("non_finite"), 4);
+    EXPECT_EQ(warnings(r).size(), 2u) << "the warnings go to stderr with --json too";
+
+    r = run(dir, "info seq --strict");
+    expectOneLineError(r, "seq/fire_0001.vdb: density: 2 NaN, 1 Inf, 1 negative values; temperature: 0 NaN, 1 Inf "
+                          "values (refused by --strict");
+}
+
+TEST(CliDataChecks, ReferenceWarnsOncePerFrameAndGridAndStrictRefuses) {
+    // No --config: the reference loads every frame for the temperature range, then frame 1 again.
+    TempDir dir;
+    writeDirtyFrame(dir / "seq", 1);
+    writeDirtyFrame(dir / "seq", 2);
+    Result r = run(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out a.exr");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::vector<std::string> w = warnings(r);
+    EXPECT_EQ(w.size(), 4u) << r.err;  // 2 frames x 2 grids, each once
+    for (int frame : {1, 2})
+        for (const char* grid : {": density: ", ": temperature: "})
+            EXPECT_EQ(std::count_if(w.begin(), w.end(),
+                                    [&](const std::string& line) {
+                                        return line.rfind("seq/fire_000" + std::to_string(frame) + ".vdb" + grid, 0) == 0;
+                                    }),
+                      1)
+                << "frame " << frame << grid << "\n"
+                << r.err;
+    EXPECT_TRUE(fs::exists(dir / "a.exr"));
+
+    r = run(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out b.exr --strict");
+    expectOneLineError(r, "refused by --strict");
+    EXPECT_FALSE(fs::exists(dir / "b.exr"));
+}
+
+TEST(CliDataChecks, ImplausibleValuesAreRefusedUnlessClamped) {
+    TempDir dir;
+    Voxels density = block(1.0f);
+    density[7].second = 1e30f;  // voxel (0, 1, 1)
+    writeFrame(dir / "seq", 1, density, ramp());
+    Result r = run(dir, "info seq");
+    expectOneLineError(r, "seq/fire_0001.vdb: density: value 1e+30 at voxel (0, 1, 1) is beyond any plausible density");
+    r = run(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out a.exr");
+    expectOneLineError(r, "density: value 1e+30");
+    EXPECT_FALSE(fs::exists(dir / "a.exr"));
+
+    r = run(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out a.exr --clamp-extreme");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(warnings(r), std::vector<std::string>{"seq/fire_0001.vdb: density: 1 value above 1e+06 clamped to 1e+06"})
+        << r.err;
+    EXPECT_TRUE(fs::exists(dir / "a.exr"));
+
+    // Temperatures: the bins would stretch over 1e9 and squeeze the real range into bin 0.
+    TempDir hot;
+    Voxels temperature = ramp();
+    temperature[3].second = -2e9f;
+    writeFrame(hot / "seq", 1, block(1.0f), temperature);
+    r = run(hot, "info seq");
+    expectOneLineError(r, "seq/fire_0001.vdb: temperature: value -2e+09 at voxel (0, 0, 3)");
+    r = run(hot, "info seq --clamp-extreme");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(warnings(r),
+              std::vector<std::string>{"seq/fire_0001.vdb: temperature: 1 value beyond +-1e+06 clamped to +-1e+06"});
+    r = run(hot, "info seq --clamp-extreme --strict");
+    expectOneLineError(r, "temperature: 1 value beyond +-1e+06 (refused by --strict");
+}
+
+TEST(CliDataChecks, GapsAreReportedByEveryCommandAndRefusedUnderStrict) {
+    TempDir dir;
+    for (int frame : {1, 2, 4}) writeFrame(dir / "seq", frame, block(1.0f), ramp());
+    std::ofstream(dir / "bake.json") << kTinyBake;
+
+    Result r = run(dir, "info seq");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(warnings(r), std::vector<std::string>{"seq: frame 3 missing"});
+    EXPECT_THAT(r.out, HasSubstr("missing frames: [3]"));
+    expectOneLineError(run(dir, "info seq --strict"), "seq: frame 3 missing (refused by --strict)");
+
+    r = run(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out a.exr");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(warnings(r), std::vector<std::string>{"seq: frame 3 missing"});
+    r = run(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out b.exr --strict");
+    expectOneLineError(r, "frame 3 missing (refused by --strict)");
+    EXPECT_FALSE(fs::exists(dir / "b.exr"));
+
+    // bake --frames 1-3 names a frame that is not there.
+    r = run(dir, "bake seq -o pkg.firelook --frames 1-3 --size 8x8 --config bake.json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(warnings(r), (std::vector<std::string>{"seq: frame 3 missing", "seq: --frames 1-3 skips frame 3 (no file)"}))
+        << r.err;
+    ASSERT_TRUE(fs::exists(dir / "pkg.firelook"));
+    r = run(dir, "bake seq -o strict.firelook --frames 1-3 --size 8x8 --config bake.json --strict");
+    expectOneLineError(r, "frame 3 missing (refused by --strict)");
+    EXPECT_FALSE(fs::exists(dir / "strict.firelook"));
+
+    // bench reads the sequence too.
+    const std::string bench = "bench seq --package pkg.firelook --frames 1 --looks 1 --spp 2 --alpha-rays 1";
+    r = run(dir, bench);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(warnings(r), std::vector<std::string>{"seq: frame 3 missing"});
+    expectOneLineError(run(dir, bench + " --strict"), "frame 3 missing (refused by --strict)");
+}
+
+TEST(CliDataChecks, ASelectionPastTheEndWarnsWithoutAGap) {
+    TempDir dir;
+    for (int frame : {1, 2}) writeFrame(dir / "seq", frame, block(1.0f), ramp());
+    std::ofstream(dir / "bake.json") << kTinyBake;
+    Result r = run(dir, "bake seq -o pkg.firelook --frames 2-5,7 --size 8x8 --config bake.json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(warnings(r), std::vector<std::string>{"seq: --frames 2-5,7 skips frames 3-5, 7 (no file)"}) << r.err;
+    r = run(dir, "bake seq -o strict.firelook --frames 1-2 --size 8x8 --config bake.json --strict");
+    EXPECT_EQ(r.exit_code, 0) << "a clean sequence and selection pass --strict: " << r.err;
+    EXPECT_TRUE(warnings(r).empty()) << r.err;
+}
+
+}  // namespace
