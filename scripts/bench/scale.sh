@@ -6,7 +6,8 @@
 # bytes and the bench's error figures.
 #   scripts/bench/scale.sh
 # Environment: FACTORS ("1 2 4 6"), FRAME (samples/data/explosion/fluid_data_0012.vdb, the VDB
-# file to upsample), SIZE (256x256), LOOKS (8), SPP (256), UP (z), OUT (out/bench/scale),
+# file to upsample), SIZE (256x256), LOOKS (8), SPP (256), ALPHA_RAYS (8: the exact alpha's rays per
+# pixel along each axis), UP (z), OUT (out/bench/scale),
 # BAKE_ARGS (extra `firelook bake` arguments, e.g. "--config B.json --memory-budget 8G"),
 # FIRELOOK and UPSAMPLE (the binaries; build/release's by default, built first when either is unset).
 # Output in OUT: xN/seq/ (the upsampled frame), xN/package.firelook, xN/{bake,bench}.* and
@@ -17,7 +18,7 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 factors="${FACTORS:-1 2 4 6}"
 frame="${FRAME:-$root/samples/data/explosion/fluid_data_0012.vdb}"
-size="${SIZE:-256x256}"; looks="${LOOKS:-8}"; spp="${SPP:-256}"; up="${UP:-z}"
+size="${SIZE:-256x256}"; looks="${LOOKS:-8}"; spp="${SPP:-256}"; up="${UP:-z}"; alpha_rays="${ALPHA_RAYS:-8}"
 read -r -a bake_args <<< "${BAKE_ARGS:-}"
 out="${OUT:-$root/out/bench/scale}"
 [[ -x /usr/bin/time ]] || { echo "scale.sh: needs GNU time as /usr/bin/time (apt-get install time)" >&2; exit 1; }
@@ -41,7 +42,7 @@ for n in $factors; do
     --up "$up" --report "$dir/bake.json" "${bake_args[@]}" > "$dir/bake.txt"
   tail -n 1 "$dir/bake.txt"
   "$firelook" bench "$seq" --package "$dir/package.firelook" --looks "$looks" --spp "$spp" \
-    --reference-cache "$dir/references" --bake-report "$dir/bake.json" \
+    --reference-cache "$dir/references" --bake-report "$dir/bake.json" --alpha-rays "$alpha_rays" \
     --csv "$csv" --label "x$n" --json "$dir/bench.json" > "$dir/bench.txt"
 done
 
@@ -52,18 +53,17 @@ cell() {  # cell LABEL COLUMN FORMAT
     NR == 1 { for (i = 1; i <= NF; i++) if ($i == column) c = i; next }
     $1 == label { v = c ? $c : "missing"; print (v ~ /^-?[0-9.eE+-]+$/ ? sprintf(format, v) : v); exit }' "$csv"
 }
-# Another engineer is adding the image-mean bias to `bench --csv`; until then its cells read "missing".
-bias_column="$(head -n 1 "$csv" | tr ',' '\n' | grep -m 1 bias || echo image_mean_bias)"
 echo
 echo "frame $(basename "$frame"), $size, $looks looks x $spp spp; relative RMSE with the reference's noise removed"
-printf '%-6s %12s %8s %9s %9s %11s %11s %10s %16s %9s\n' factor active_voxels bake_s peak_MiB time_MiB \
-  package_B median_rmse worst_rmse "$bias_column" alpha_err
+printf '%-6s %12s %8s %9s %9s %11s %11s %10s %11s %11s %9s\n' factor active_voxels bake_s peak_MiB time_MiB \
+  package_B median_rmse worst_rmse median_bias worst_bias alpha_err
 for n in $factors; do
   dir="$out/x$n"
   voxels="$(awk '/"density": \{/ { d = 1 } d && /"active_voxels"/ { gsub(/[^0-9]/, ""); print; exit }' "$dir/info.json")"
   rss_kib="$(awk -F': ' '/Maximum resident set size/ { print $2 }' "$dir/bake.time")"
-  printf '%-6s %12s %8s %9s %9s %11s %11s %10s %16s %9s\n' "x$n" "$voxels" "$(cell "x$n" bake_seconds %.1f)" \
+  printf '%-6s %12s %8s %9s %9s %11s %11s %10s %11s %11s %9s\n' "x$n" "$voxels" "$(cell "x$n" bake_seconds %.1f)" \
     "$(cell "x$n" bake_peak_memory_mib %.0f)" "$((rss_kib / 1024))" "$(cell "x$n" package_bytes %d)" \
     "$(cell "x$n" median_noise_corrected_rmse %.5f)" "$(cell "x$n" worst_noise_corrected_rmse %.5f)" \
-    "$(cell "x$n" "$bias_column" %.5f)" "$(cell "x$n" max_alpha_error %.5f)"
+    "$(cell "x$n" median_image_mean_bias %.5f)" "$(cell "x$n" worst_image_mean_bias %.5f)" \
+    "$(cell "x$n" max_alpha_error %.5f)"
 done

@@ -2,60 +2,27 @@
 // program through the shell in its own temporary folder and checks the exit status, the output
 // and the files left behind. Bakes are tiny: frame 1 of the sample, 16x16, a few thousand photons.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <fstream>
-#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "../support/command.h"
 #include "../support/temp_dir.h"
+#include "../support/tiny_bake_config.h"
 #include "image/image_io.h"
 
 namespace {
 
-using firelook::testing::TempDir;
+using namespace firelook::testing;  // TempDir, runFirelook, readFile, lines, kTinyBakeConfig
 using nlohmann::json;
 
-struct Result {
-    int exit_code = -1;
-    std::string out, err;
-};
-
-std::string readFile(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), {}};
-}
-
-// Runs `firelook <args>` with `dir` as the working folder; args are passed to the shell as written.
-Result run(const TempDir& dir, const std::string& args) {
-    const std::string command = "cd '" + dir.path().string() + "' && '" FIRELOOK_EXE "' " + args +
-                                " > .stdout 2> .stderr < /dev/null";
-    const int status = std::system(command.c_str());
-    Result r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = readFile(dir / ".stdout");
-    r.err = readFile(dir / ".stderr");
-    std::filesystem::remove(dir / ".stdout");
-    std::filesystem::remove(dir / ".stderr");
-    return r;
-}
-
-std::vector<std::string> lines(const std::string& text) {
-    std::vector<std::string> out;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);)
-        if (!line.empty()) out.push_back(line);
-    return out;
-}
-
 // DESIGN.md section 6: a failure is a non-zero exit with a one-line error on stderr.
-void expectOneLineError(const Result& r, const std::string& mentions) {
+void expectOneLineError(const CommandResult& r, const std::string& mentions) {
     EXPECT_NE(r.exit_code, 0) << r.out << r.err;
     const std::vector<std::string> err = lines(r.err);
     ASSERT_FALSE(err.empty()) << "no error message";
@@ -68,44 +35,37 @@ void expectOneLineError(const Result& r, const std::string& mentions) {
 
 const std::string kSample = FIRELOOK_SAMPLE_DIR;
 
-// Tiny bake settings: a 2-point T_c axis, everything else collapsed, few photons.
-void writeTinyConfig(const TempDir& dir) {
-    std::ofstream(dir / "bake.json") << R"({
-        "bins": 4, "t_lo": 0, "t_hi": 3,
-        "axes": {"temperature_threshold": [1.0, 2.0], "smoke_extinction": 4, "flame_extinction": 1.5},
-        "alpha_threshold_samples": 3,
-        "trace": {"photons_primary": 2000, "photons_per_order": 1000, "max_orders": 3, "cell_voxels": 8}
-    })";
-}
+// Tiny bake settings (../support/tiny_bake_config.h).
+void writeTinyConfig(const TempDir& dir) { std::ofstream(dir / "bake.json") << kTinyBakeConfig; }
 
 // Bakes frame 1 into dir/pkg.firelook.
 void bakeTiny(const TempDir& dir) {
     writeTinyConfig(dir);
-    const Result r =
-        run(dir, "bake '" + kSample + "' -o pkg.firelook --frames 1 --size 16x16 --up z --config bake.json");
+    const CommandResult r = runFirelook(
+        dir, "bake '" + kSample + "' -o pkg.firelook --frames 1 --size 16x16 --up z --config bake.json");
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
     ASSERT_TRUE(std::filesystem::exists(dir / "pkg.firelook"));
 }
 
 TEST(Cli, HelpExitsZero) {
     TempDir dir;
-    Result r = run(dir, "--help");
+    CommandResult r = runFirelook(dir, "--help");
     EXPECT_EQ(r.exit_code, 0) << r.err;
     for (const char* command : {"info", "reference", "bake", "render"})
         EXPECT_NE(r.out.find(command), std::string::npos) << command << " missing from: " << r.out;
     for (const char* command : {"bake", "render"}) {
-        r = run(dir, std::string(command) + " --help");
+        r = runFirelook(dir, std::string(command) + " --help");
         EXPECT_EQ(r.exit_code, 0) << command << ": " << r.err;
         EXPECT_FALSE(r.out.empty()) << command;
     }
-    r = run(dir, "");
+    r = runFirelook(dir, "");
     EXPECT_NE(r.exit_code, 0) << "a subcommand is required";
     EXPECT_TRUE(dir.entries().empty());
 }
 
 TEST(Cli, InfoOnSequenceListsFramesAndGrids) {
     TempDir dir;
-    const Result r = run(dir, "info '" + kSample + "'");
+    const CommandResult r = runFirelook(dir, "info '" + kSample + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("12 frames"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("density grid 'density'"), std::string::npos) << r.out;
@@ -122,7 +82,7 @@ TEST(Cli, InfoOnSequenceListsFramesAndGrids) {
 
 TEST(Cli, InfoJsonIsValid) {
     TempDir dir;
-    const Result r = run(dir, "info --json '" + kSample + "'");
+    const CommandResult r = runFirelook(dir, "info --json '" + kSample + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const json j = json::parse(r.out, nullptr, false);
     ASSERT_FALSE(j.is_discarded()) << r.out;
@@ -144,12 +104,12 @@ TEST(Cli, BakeInfoRender) {
     bakeTiny(dir);
     EXPECT_EQ(dir.entries(), (std::vector<std::string>{"bake.json", "pkg.firelook"})) << "nothing else left";
 
-    Result r = run(dir, "info pkg.firelook");
+    CommandResult r = runFirelook(dir, "info pkg.firelook");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("image 16x16"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("frames (frame:rank): 1:"), std::string::npos) << r.out;
 
-    r = run(dir, "info --json pkg.firelook");
+    r = runFirelook(dir, "info --json pkg.firelook");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const json info = json::parse(r.out);
     const json& bake = info.at("metadata").at("bake");
@@ -160,7 +120,7 @@ TEST(Cli, BakeInfoRender) {
     EXPECT_TRUE(bake.at("default_look").is_object());
     EXPECT_TRUE(info.at("metadata").contains("camera"));
 
-    r = run(dir, "render pkg.firelook --frame 1 --out a.exr");
+    r = runFirelook(dir, "render pkg.firelook --frame 1 --out a.exr");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const firelook::image::ImageRGBA image = firelook::image::readImage(dir / "a.exr");
     ASSERT_EQ(image.width, 16);
@@ -174,11 +134,11 @@ TEST(Cli, BakeInfoRender) {
     EXPECT_GT(alpha_sum, 0.0) << "the fire is in view";
     EXPECT_GT(rgb_sum, 0.0) << "and glows";
 
-    r = run(dir, "render pkg.firelook --frame 1 --out a.png");
+    r = runFirelook(dir, "render pkg.firelook --frame 1 --out a.png");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(firelook::image::readImage(dir / "a.png").width, 16);
 
-    r = run(dir, "render pkg.firelook --frame 2 --out b.exr");
+    r = runFirelook(dir, "render pkg.firelook --frame 2 --out b.exr");
     expectOneLineError(r, "frame 2");
     EXPECT_FALSE(std::filesystem::exists(dir / "b.exr"));
 }
@@ -186,19 +146,19 @@ TEST(Cli, BakeInfoRender) {
 TEST(Cli, RenderWithAnotherAlbedoFails) {
     TempDir dir;
     bakeTiny(dir);
-    const Result info = run(dir, "info --json pkg.firelook");
+    const CommandResult info = runFirelook(dir, "info --json pkg.firelook");
     ASSERT_EQ(info.exit_code, 0) << info.err;
     json look = json::parse(info.out).at("metadata").at("bake").at("default_look");
     look["albedo"] = look.at("albedo").get<double>() > 0.5 ? 0.2 : 0.9;
     std::ofstream(dir / "look.json") << look.dump();
-    const Result r = run(dir, "render pkg.firelook --frame 1 --look look.json --out a.exr");
+    const CommandResult r = runFirelook(dir, "render pkg.firelook --frame 1 --look look.json --out a.exr");
     expectOneLineError(r, "albedo");
     EXPECT_FALSE(std::filesystem::exists(dir / "a.exr"));
 
     // The same look with the baked albedo renders.
     look["albedo"] = json::parse(info.out).at("metadata").at("bake").at("albedo");
     std::ofstream(dir / "look.json") << look.dump();
-    EXPECT_EQ(run(dir, "render pkg.firelook --frame 1 --look look.json --out a.exr").exit_code, 0);
+    EXPECT_EQ(runFirelook(dir, "render pkg.firelook --frame 1 --look look.json --out a.exr").exit_code, 0);
 }
 
 TEST(Cli, TruncatedPackageIsRefusedByName) {
@@ -207,9 +167,9 @@ TEST(Cli, TruncatedPackageIsRefusedByName) {
     const std::string bytes = readFile(dir / "pkg.firelook");
     std::ofstream(dir / "cut.firelook", std::ios::binary)
         .write(bytes.data(), std::streamsize(bytes.size() / 2));
-    Result r = run(dir, "info cut.firelook");
+    CommandResult r = runFirelook(dir, "info cut.firelook");
     expectOneLineError(r, "cut.firelook");
-    r = run(dir, "render cut.firelook --frame 1 --out a.exr");
+    r = runFirelook(dir, "render cut.firelook --frame 1 --out a.exr");
     expectOneLineError(r, "cut.firelook");
     EXPECT_FALSE(std::filesystem::exists(dir / "a.exr"));
 }
@@ -217,9 +177,9 @@ TEST(Cli, TruncatedPackageIsRefusedByName) {
 TEST(Cli, BakeIntoMissingFolderLeavesNothing) {
     TempDir dir;
     writeTinyConfig(dir);
-    const Result r =
-        run(dir, "bake '" + kSample +
-                     "' -o missing/pkg.firelook --frames 1 --size 16x16 --up z --config bake.json");
+    const CommandResult r =
+        runFirelook(dir, "bake '" + kSample +
+                             "' -o missing/pkg.firelook --frames 1 --size 16x16 --up z --config bake.json");
     expectOneLineError(r, "missing");
     EXPECT_EQ(dir.entries(), std::vector<std::string>{"bake.json"});
 }
@@ -228,15 +188,15 @@ TEST(Cli, BadArgumentsFail) {
     TempDir dir;
     writeTinyConfig(dir);
     for (const char* size : {"16", "0x16", "99999x16"}) {
-        const Result r = run(
+        const CommandResult r = runFirelook(
             dir, "bake '" + kSample + "' -o pkg.firelook --frames 1 --size " + size + " --config bake.json");
         EXPECT_NE(r.exit_code, 0) << "--size " << size;
         EXPECT_NE(r.err.find("size"), std::string::npos) << "--size " << size << ": " << r.err;
     }
-    Result r =
-        run(dir, "bake '" + kSample + "' -o pkg.firelook --frames 40-50 --size 16x16 --config bake.json");
+    CommandResult r = runFirelook(
+        dir, "bake '" + kSample + "' -o pkg.firelook --frames 40-50 --size 16x16 --config bake.json");
     expectOneLineError(r, "40-50");
-    r = run(dir, "info no-such-thing");
+    r = runFirelook(dir, "info no-such-thing");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.err.find("no-such-thing"), std::string::npos) << r.err;
     EXPECT_EQ(dir.entries(), std::vector<std::string>{"bake.json"});
@@ -248,7 +208,7 @@ TEST(Cli, SizeWithTrailingGarbageFails) {
     TempDir dir;
     writeTinyConfig(dir);
     for (const char* size : {"16x16x16", "16x16abc", "16.5x16"}) {
-        const Result r = run(
+        const CommandResult r = runFirelook(
             dir, "bake '" + kSample + "' -o pkg.firelook --frames 1 --size " + size + " --config bake.json");
         EXPECT_NE(r.exit_code, 0) << "--size " << size;
         std::filesystem::remove(dir / "pkg.firelook");
@@ -261,8 +221,10 @@ TEST(Cli, SizeWithTrailingGarbageFails) {
 TEST(Cli, BakeReportAndBenchCsvWithReferenceCache) {
     TempDir dir;
     writeTinyConfig(dir);
-    Result r = run(dir, "bake '" + kSample +
-                            "' -o pkg.firelook --frames 1 --size 16x16 --up z --config bake.json --report bake.json.report");
+    CommandResult r = runFirelook(
+        dir,
+        "bake '" + kSample +
+            "' -o pkg.firelook --frames 1 --size 16x16 --up z --config bake.json --report bake.json.report");
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
     const json report = json::parse(readFile(dir / "bake.json.report"));
     EXPECT_GT(report.at("seconds").get<double>(), 0.0);
@@ -274,7 +236,7 @@ TEST(Cli, BakeReportAndBenchCsvWithReferenceCache) {
     const std::string bench = "bench '" + kSample +
                               "' --package pkg.firelook --frames 1 --looks 2 --spp 8 --alpha-rays 2 "
                               "--reference-cache refs --csv sweep.csv --bake-report bake.json.report ";
-    r = run(dir, bench + "--label first --json first.json");
+    r = runFirelook(dir, bench + "--label first --json first.json");
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
     ASSERT_TRUE(std::filesystem::is_directory(dir / "refs"));
     size_t cached = 0;
@@ -283,7 +245,7 @@ TEST(Cli, BakeReportAndBenchCsvWithReferenceCache) {
         ++cached;
     }
     EXPECT_EQ(cached, 4u) << "one reference and one exact alpha per look";
-    r = run(dir, bench + "--label second --json second.json");
+    r = runFirelook(dir, bench + "--label second --json second.json");
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
 
     const json first = json::parse(readFile(dir / "first.json")).at("summary");

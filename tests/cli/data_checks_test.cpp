@@ -4,23 +4,23 @@
 // one-line error. Sequences are tiny VDB files written here with OpenVDB.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
-#include <cstdlib>
+#include <cstdio>
 #include <fstream>
-#include <iterator>
 #include <limits>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "../support/command.h"
+#include "../support/tiny_bake_config.h"
 #include "../vdb/vdb_test_files.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using namespace firelook::testing;  // runFirelook, lines, kTinyBakeConfig
 using firelook::vdb::testing::makeGrid;
 using firelook::vdb::testing::TempDir;
 using firelook::vdb::testing::Voxels;
@@ -31,45 +31,14 @@ using ::testing::HasSubstr;
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-struct Result {
-    int exit_code = -1;
-    std::string out, err;
-};
-
-std::string readFile(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), {}};
-}
-
-// Runs `firelook <args>` in `dir` (stdout and stderr captured in a separate folder).
-Result run(const TempDir& dir, const std::string& args) {
-    const TempDir logs;
-    const std::string command = "cd '" + dir.path().string() + "' && '" FIRELOOK_EXE "' " + args + " > '" +
-                                (logs / "out").string() + "' 2> '" + (logs / "err").string() + "' < /dev/null";
-    const int status = std::system(command.c_str());
-    Result r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = readFile(logs / "out");
-    r.err = readFile(logs / "err");
-    return r;
-}
-
-std::vector<std::string> lines(const std::string& text) {
-    std::vector<std::string> out;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);)
-        if (!line.empty()) out.push_back(line);
-    return out;
-}
-
-std::vector<std::string> warnings(const Result& r) {
+std::vector<std::string> warnings(const CommandResult& r) {
     std::vector<std::string> out;
     for (const std::string& line : lines(r.err))
         if (line.rfind("firelook: warning: ", 0) == 0) out.push_back(line.substr(19));
     return out;
 }
 
-void expectOneLineError(const Result& r, const std::string& mentions) {
+void expectOneLineError(const CommandResult& r, const std::string& mentions) {
     EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
     int error_lines = 0;
     for (const std::string& line : lines(r.err)) error_lines += line.rfind("firelook: error:", 0) == 0;
@@ -113,17 +82,10 @@ void writeDirtyFrame(const fs::path& seq, int frame) {
     writeFrame(seq, frame, density, temperature);
 }
 
-const char* const kTinyBake = R"({
-    "bins": 4, "t_lo": 0, "t_hi": 3,
-    "axes": {"temperature_threshold": [1.0, 2.0], "smoke_extinction": 4, "flame_extinction": 1.5},
-    "alpha_threshold_samples": 3,
-    "trace": {"photons_primary": 2000, "photons_per_order": 1000, "max_orders": 3, "cell_voxels": 8}
-})";
-
 TEST(CliDataChecks, InfoWarnsAboutCleanedValuesAndShowsThem) {
     TempDir dir;
     writeDirtyFrame(dir / "seq", 1);
-    Result r = run(dir, "info seq");
+    CommandResult r = runFirelook(dir, "info seq");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(warnings(r), (std::vector<std::string>{"seq/fire_0001.vdb: density: 2 NaN, 1 Inf, 1 negative values set to 0",
                                                       "seq/fire_0001.vdb: temperature: 0 NaN, 1 Inf values set to 0"}))
@@ -131,7 +93,7 @@ TEST(CliDataChecks, InfoWarnsAboutCleanedValuesAndShowsThem) {
     EXPECT_THAT(r.out, HasSubstr("frame 1: seq/fire_0001.vdb: density: 2 NaN, 1 Inf, 1 negative values set to 0"));
     EXPECT_THAT(r.out, HasSubstr("frame 1: seq/fire_0001.vdb: temperature: 0 NaN, 1 Inf values set to 0"));
 
-    r = run(dir, "info --json seq");
+    r = runFirelook(dir, "info --json seq");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const json cleaned = json::parse(r.out).at("frames")[0].at("cleaned");
     EXPECT_EQ(cleaned.at("density").at("nan"), 2);
@@ -141,7 +103,7 @@ TEST(CliDataChecks, InfoWarnsAboutCleanedValuesAndShowsThem) {
     EXPECT_EQ(cleaned.at("non_finite"), 4);
     EXPECT_EQ(warnings(r).size(), 2u) << "the warnings go to stderr with --json too";
 
-    r = run(dir, "info seq --strict");
+    r = runFirelook(dir, "info seq --strict");
     expectOneLineError(r, "seq/fire_0001.vdb: density: 2 NaN, 1 Inf, 1 negative values; temperature: 0 NaN, 1 Inf "
                           "values (refused by --strict");
 }
@@ -151,7 +113,7 @@ TEST(CliDataChecks, ReferenceWarnsOncePerFrameAndGridAndStrictRefuses) {
     TempDir dir;
     writeDirtyFrame(dir / "seq", 1);
     writeDirtyFrame(dir / "seq", 2);
-    Result r = run(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out a.exr");
+    CommandResult r = runFirelook(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out a.exr");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const std::vector<std::string> w = warnings(r);
     EXPECT_EQ(w.size(), 4u) << r.err;  // 2 frames x 2 grids, each once
@@ -166,7 +128,7 @@ TEST(CliDataChecks, ReferenceWarnsOncePerFrameAndGridAndStrictRefuses) {
                 << r.err;
     EXPECT_TRUE(fs::exists(dir / "a.exr"));
 
-    r = run(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out b.exr --strict");
+    r = runFirelook(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out b.exr --strict");
     expectOneLineError(r, "refused by --strict");
     EXPECT_FALSE(fs::exists(dir / "b.exr"));
 }
@@ -176,13 +138,13 @@ TEST(CliDataChecks, ImplausibleValuesAreRefusedUnlessClamped) {
     Voxels density = block(1.0f);
     density[7].second = 1e30f;  // voxel (0, 1, 1)
     writeFrame(dir / "seq", 1, density, ramp());
-    Result r = run(dir, "info seq");
+    CommandResult r = runFirelook(dir, "info seq");
     expectOneLineError(r, "seq/fire_0001.vdb: density: value 1e+30 at voxel (0, 1, 1) is beyond any plausible density");
-    r = run(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out a.exr");
+    r = runFirelook(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out a.exr");
     expectOneLineError(r, "density: value 1e+30");
     EXPECT_FALSE(fs::exists(dir / "a.exr"));
 
-    r = run(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out a.exr --clamp-extreme");
+    r = runFirelook(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out a.exr --clamp-extreme");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(warnings(r), std::vector<std::string>{"seq/fire_0001.vdb: density: 1 value above 1e+06 clamped to 1e+06"})
         << r.err;
@@ -193,60 +155,61 @@ TEST(CliDataChecks, ImplausibleValuesAreRefusedUnlessClamped) {
     Voxels temperature = ramp();
     temperature[3].second = -2e9f;
     writeFrame(hot / "seq", 1, block(1.0f), temperature);
-    r = run(hot, "info seq");
+    r = runFirelook(hot, "info seq");
     expectOneLineError(r, "seq/fire_0001.vdb: temperature: value -2e+09 at voxel (0, 0, 3)");
-    r = run(hot, "info seq --clamp-extreme");
+    r = runFirelook(hot, "info seq --clamp-extreme");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(warnings(r),
               std::vector<std::string>{"seq/fire_0001.vdb: temperature: 1 value beyond +-1e+06 clamped to +-1e+06"});
-    r = run(hot, "info seq --clamp-extreme --strict");
+    r = runFirelook(hot, "info seq --clamp-extreme --strict");
     expectOneLineError(r, "temperature: 1 value beyond +-1e+06 (refused by --strict");
 }
 
 TEST(CliDataChecks, GapsAreReportedByEveryCommandAndRefusedUnderStrict) {
     TempDir dir;
     for (int frame : {1, 2, 4}) writeFrame(dir / "seq", frame, block(1.0f), ramp());
-    std::ofstream(dir / "bake.json") << kTinyBake;
+    std::ofstream(dir / "bake.json") << kTinyBakeConfig;
 
-    Result r = run(dir, "info seq");
+    CommandResult r = runFirelook(dir, "info seq");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(warnings(r), std::vector<std::string>{"seq: frame 3 missing"});
     EXPECT_THAT(r.out, HasSubstr("missing frames: [3]"));
-    expectOneLineError(run(dir, "info seq --strict"), "seq: frame 3 missing (refused by --strict)");
+    expectOneLineError(runFirelook(dir, "info seq --strict"), "seq: frame 3 missing (refused by --strict)");
 
-    r = run(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out a.exr");
+    r = runFirelook(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out a.exr");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(warnings(r), std::vector<std::string>{"seq: frame 3 missing"});
-    r = run(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out b.exr --strict");
+    r = runFirelook(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out b.exr --strict");
     expectOneLineError(r, "frame 3 missing (refused by --strict)");
     EXPECT_FALSE(fs::exists(dir / "b.exr"));
 
     // bake --frames 1-3 names a frame that is not there.
-    r = run(dir, "bake seq -o pkg.firelook --frames 1-3 --size 8x8 --config bake.json");
+    r = runFirelook(dir, "bake seq -o pkg.firelook --frames 1-3 --size 8x8 --config bake.json");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(warnings(r), (std::vector<std::string>{"seq: frame 3 missing", "seq: --frames 1-3 skips frame 3 (no file)"}))
         << r.err;
     ASSERT_TRUE(fs::exists(dir / "pkg.firelook"));
-    r = run(dir, "bake seq -o strict.firelook --frames 1-3 --size 8x8 --config bake.json --strict");
+    r = runFirelook(dir, "bake seq -o strict.firelook --frames 1-3 --size 8x8 --config bake.json --strict");
     expectOneLineError(r, "frame 3 missing (refused by --strict)");
     EXPECT_FALSE(fs::exists(dir / "strict.firelook"));
 
     // bench reads the sequence too.
     const std::string bench = "bench seq --package pkg.firelook --frames 1 --looks 1 --spp 2 --alpha-rays 1";
-    r = run(dir, bench);
+    r = runFirelook(dir, bench);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(warnings(r), std::vector<std::string>{"seq: frame 3 missing"});
-    expectOneLineError(run(dir, bench + " --strict"), "frame 3 missing (refused by --strict)");
+    expectOneLineError(runFirelook(dir, bench + " --strict"), "frame 3 missing (refused by --strict)");
 }
 
 TEST(CliDataChecks, ASelectionPastTheEndWarnsWithoutAGap) {
     TempDir dir;
     for (int frame : {1, 2}) writeFrame(dir / "seq", frame, block(1.0f), ramp());
-    std::ofstream(dir / "bake.json") << kTinyBake;
-    Result r = run(dir, "bake seq -o pkg.firelook --frames 2-5,7 --size 8x8 --config bake.json");
+    std::ofstream(dir / "bake.json") << kTinyBakeConfig;
+    CommandResult r =
+        runFirelook(dir, "bake seq -o pkg.firelook --frames 2-5,7 --size 8x8 --config bake.json");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(warnings(r), std::vector<std::string>{"seq: --frames 2-5,7 skips frames 3-5, 7 (no file)"}) << r.err;
-    r = run(dir, "bake seq -o strict.firelook --frames 1-2 --size 8x8 --config bake.json --strict");
+    r = runFirelook(dir, "bake seq -o strict.firelook --frames 1-2 --size 8x8 --config bake.json --strict");
     EXPECT_EQ(r.exit_code, 0) << "a clean sequence and selection pass --strict: " << r.err;
     EXPECT_TRUE(warnings(r).empty()) << r.err;
 }

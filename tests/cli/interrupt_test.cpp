@@ -8,46 +8,32 @@
 // fails. The deadline is 1.5 s: the commands poll the flag once per pixel (a millisecond or so)
 // and measured 5-25 ms from the signal to the exit on the 2-core development machine; the rest is
 // headroom for a loaded CI machine.
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
-#include <fcntl.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <fstream>
-#include <iterator>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "../support/command.h"
 #include "../support/temp_dir.h"
+#include "../support/tiny_bake_config.h"
 
 namespace {
 
-using firelook::testing::TempDir;
+using namespace firelook::testing;  // TempDir, runFirelook, readFile, lines, kTinyBakeConfig
 using Clock = std::chrono::steady_clock;
 
 const std::string kSample = FIRELOOK_SAMPLE_DIR;
 constexpr double kStopDeadlineSeconds = 1.5;
-
-std::string readFile(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), {}};
-}
-
-std::vector<std::string> lines(const std::string& text) {
-    std::vector<std::string> out;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);)
-        if (!line.empty()) out.push_back(line);
-    return out;
-}
 
 struct Outcome {
     int exit_code = -1;         // 128 + signal when the child was killed by one
@@ -177,21 +163,21 @@ INSTANTIATE_TEST_SUITE_P(Signals, InterruptReference, ::testing::Values(SIGTERM,
                              return std::string(info.param == SIGTERM ? "SIGTERM" : "SIGINT");
                          });
 
+// Bakes `frames` of the sample into work/pkg.firelook, 16x16 with tiny settings (work/bake.json).
+void bakeTiny(const TempDir& work, const std::string& frames) {
+    std::ofstream(work / "bake.json") << kTinyBakeConfig;
+    const CommandResult r = runFirelook(work, "bake '" + kSample + "' -o pkg.firelook --frames " + frames +
+                                                  " --size 16x16 --up z --config bake.json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+}
+
 // Bench: bake a tiny package, then interrupt a bench whose references take hours.
 class InterruptBench : public ::testing::TestWithParam<int> {};
 
 TEST_P(InterruptBench, StopsAtOnceAndLeavesOutputsAsTheyWere) {
     const int signal_number = GetParam();
     TempDir dir;
-    std::ofstream(dir / "bake.json") << R"({
-        "bins": 4, "t_lo": 0, "t_hi": 3,
-        "axes": {"temperature_threshold": [1.0, 2.0], "smoke_extinction": 4, "flame_extinction": 1.5},
-        "alpha_threshold_samples": 3,
-        "trace": {"photons_primary": 2000, "photons_per_order": 1000, "max_orders": 3, "cell_voxels": 8}
-    })";
-    const std::string bake = "cd '" + dir.path().string() + "' && '" FIRELOOK_EXE "' bake '" + kSample +
-                             "' -o pkg.firelook --frames 1 --size 16x16 --up z --config bake.json > /dev/null 2>&1";
-    ASSERT_EQ(std::system(bake.c_str()), 0);
+    ASSERT_NO_FATAL_FAILURE(bakeTiny(dir, "1"));
     const std::string previous = "{\"an earlier\": \"bench\"}\n";
     std::ofstream(dir / "bench.json", std::ios::binary) << previous;
     const std::vector<std::string> before = dir.entries();
@@ -215,36 +201,26 @@ INSTANTIATE_TEST_SUITE_P(Signals, InterruptBench, ::testing::Values(SIGTERM, SIG
 // last frame instead (a look whose albedo differs from the baked one), which unwinds the same way.
 TEST(Animate, IsAllOrNothing) {
     TempDir dir;
-    std::ofstream(dir / "bake.json") << R"({
-        "bins": 4, "t_lo": 0, "t_hi": 3,
-        "axes": {"temperature_threshold": [1.0, 2.0], "smoke_extinction": 4, "flame_extinction": 1.5},
-        "alpha_threshold_samples": 3,
-        "trace": {"photons_primary": 2000, "photons_per_order": 1000, "max_orders": 3, "cell_voxels": 8}
-    })";
-    const std::string cd = "cd '" + dir.path().string() + "' && '" FIRELOOK_EXE "' ";
-    ASSERT_EQ(std::system((cd + "bake '" + kSample +
-                           "' -o pkg.firelook --frames 1-2 --size 16x16 --up z --config bake.json > /dev/null 2>&1")
-                              .c_str()),
-              0);
-    ASSERT_EQ(std::system((cd + "info --json pkg.firelook > info.json").c_str()), 0);
+    ASSERT_NO_FATAL_FAILURE(bakeTiny(dir, "1-2"));
+    const CommandResult info = runFirelook(dir, "info --json pkg.firelook");
+    ASSERT_EQ(info.exit_code, 0) << info.err;
     // The baked default look, and the same with another albedo, which the package refuses.
-    nlohmann::json look = nlohmann::json::parse(readFile(dir / "info.json")).at("metadata").at("bake").at("default_look");
+    nlohmann::json look = nlohmann::json::parse(info.out).at("metadata").at("bake").at("default_look");
     std::ofstream(dir / "good.json") << look.dump();
     look["albedo"] = look.at("albedo").get<double>() > 0.5 ? 0.2 : 0.9;
     std::ofstream(dir / "bad.json") << look.dump();
 
     // A fresh output folder: created for the run, removed with it.
-    int status = std::system((cd + "animate pkg.firelook --key 1:good.json --key 2:bad.json --out-dir fresh "
-                                   "> /dev/null 2>&1").c_str());
-    EXPECT_NE(status, 0);
+    CommandResult r =
+        runFirelook(dir, "animate pkg.firelook --key 1:good.json --key 2:bad.json --out-dir fresh");
+    EXPECT_NE(r.exit_code, 0);
     EXPECT_FALSE(std::filesystem::exists(dir / "fresh"));
 
     // An existing folder keeps exactly what it held.
     std::filesystem::create_directories(dir / "old");
     std::ofstream(dir / "old" / "frame_0001.png") << "earlier frame";
-    status = std::system((cd + "animate pkg.firelook --key 1:good.json --key 2:bad.json --out-dir old "
-                               "> /dev/null 2>&1").c_str());
-    EXPECT_NE(status, 0);
+    r = runFirelook(dir, "animate pkg.firelook --key 1:good.json --key 2:bad.json --out-dir old");
+    EXPECT_NE(r.exit_code, 0);
     std::vector<std::string> names;
     for (const auto& entry : std::filesystem::directory_iterator(dir / "old"))
         names.push_back(entry.path().filename().string());
@@ -252,7 +228,8 @@ TEST(Animate, IsAllOrNothing) {
     EXPECT_EQ(readFile(dir / "old" / "frame_0001.png"), "earlier frame");
 
     // And a run that succeeds replaces it and leaves no staging folder.
-    ASSERT_EQ(std::system((cd + "animate pkg.firelook --key 1:good.json --out-dir old > /dev/null 2>&1").c_str()), 0);
+    r = runFirelook(dir, "animate pkg.firelook --key 1:good.json --out-dir old");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     names.clear();
     for (const auto& entry : std::filesystem::directory_iterator(dir / "old"))
         names.push_back(entry.path().filename().string());

@@ -53,24 +53,34 @@ double brickMajorantAt(const MajorantGrid& grid, const glm::dvec3& world) {
     return grid.majorant(b);
 }
 
+// The tentative collisions of the tracker along a random ray through the grid's medium, drawn at
+// unit-mean exponential optical steps, at most `limit` of them.
+std::vector<TentativeCollision> tentativeCollisions(
+    const MajorantGrid& grid, std::mt19937& gen,
+    std::size_t limit = std::numeric_limits<std::size_t>::max()) {
+    std::exponential_distribution<double> exp1(1.0);
+    MajorantTracker tracker(grid, randomRayThrough(grid.medium(), gen));
+    std::vector<TentativeCollision> collisions;
+    TentativeCollision c;
+    while (collisions.size() < limit && tracker.advance(exp1(gen), c)) collisions.push_back(c);
+    return collisions;
+}
+
+// k_s > k_f and a threshold inside the data: kappa varies strongly across bricks (and with T).
+const TemperatureBins kBins{0.0, 1.0, 8};
+const ExtinctionParams kVaryingExtinction{0.4, 9.0, 0.5};
+
 TEST(MajorantGrid, BoundsExtinctionAtEveryTentativeCollision) {
     const Medium medium = sparseMedium();
-    const TemperatureBins bins{0.0, 1.0, 8};
-    // k_s > k_f and a threshold inside the data: kappa varies strongly across bricks.
-    const ExtinctionParams extinction{0.4, 9.0, 0.5};
-    const MajorantGrid grid(medium, extinction, bins, 0.0);
+    const MajorantGrid grid(medium, kVaryingExtinction, kBins, 0.0);
     std::mt19937 gen(3);
-    std::exponential_distribution<double> exp1(1.0);
     int collisions = 0;
-    for (int r = 0; r < 300; ++r) {
-        MajorantTracker tracker(grid, randomRayThrough(medium, gen));
-        TentativeCollision c;
-        while (tracker.advance(exp1(gen), c)) {
+    for (int r = 0; r < 300; ++r)
+        for (const TentativeCollision& c : tentativeCollisions(grid, gen)) {
             const MediumSample s = medium.sampleIndex(c.index_point);
-            ASSERT_LE(s.density * extinctionPerDensity(s.temperature, extinction, bins), c.majorant);
+            ASSERT_LE(s.density * extinctionPerDensity(s.temperature, kVaryingExtinction, kBins), c.majorant);
             ++collisions;
         }
-    }
     EXPECT_GT(collisions, 1000);  // the test exercised the tracker
 }
 
@@ -151,21 +161,17 @@ Medium spikyMedium() {
 
 TEST(MajorantGrid, RefinedBricksBoundExtinctionAndInterpolateExactly) {
     const Medium medium = spikyMedium();
-    const TemperatureBins bins{0.0, 1.0, 8};
-    const ExtinctionParams extinction{0.4, 9.0, 0.5};
-    const MajorantGrid grid(medium, extinction, bins, 0.0);
+    const MajorantGrid grid(medium, kVaryingExtinction, kBins, 0.0);
     std::mt19937 gen(13);
-    std::exponential_distribution<double> exp1(1.0);
     int collisions = 0, refined = 0;
     double largest = 0.0;
     for (int r = 0; r < 300; ++r) {
-        MajorantTracker tracker(grid, randomRayThrough(medium, gen));
-        TentativeCollision c;
         double last = 0.0;
-        for (int n = 0; n < 3000 && tracker.advance(exp1(gen), c); ++n) {
+        for (const TentativeCollision& c : tentativeCollisions(grid, gen, 3000)) {
             ASSERT_GE(c.distance, last);
             last = c.distance;
-            const double sigma = c.sample.density * extinctionPerDensity(c.sample.temperature, extinction, bins);
+            const double sigma =
+                c.sample.density * extinctionPerDensity(c.sample.temperature, kVaryingExtinction, kBins);
             ASSERT_LE(sigma, c.majorant);
             // The tracker's values are the trilinear interpolant at the collision.
             const MediumSample s = medium.sampleIndex(c.index_point);
@@ -189,20 +195,18 @@ TEST(MajorantGrid, RefiningEveryBrickOrNoneGivesTheExactTransmittance) {
     // quadrature along the ray. kappa varies strongly with T here (k_s 9, k_f 0.5), so the refined
     // majorants bound kappa(T) through the temperature polynomial too.
     const Medium medium = sparseMedium();
-    const TemperatureBins bins{0.0, 1.0, 8};
-    const ExtinctionParams extinction{0.4, 9.0, 0.5};
     std::mt19937 gen(19);
     std::exponential_distribution<double> exp1(1.0);
     int refined_rays = 0;
     for (const double refine : {0.0, std::numeric_limits<double>::infinity()}) {
-        const MajorantGrid grid(medium, extinction, bins, 0.0, refine);
+        const MajorantGrid grid(medium, kVaryingExtinction, kBins, 0.0, refine);
         for (int r = 0; r < 12; ++r) {
             const Ray ray = randomRayThrough(medium, gen);
             double tau = 0.0;
             constexpr double kDs = 2e-4;
             for (double s = 0.5 * kDs; s < 20.0; s += kDs) {
                 const MediumSample m = medium.sampleWorld(ray.origin + s * ray.direction);
-                tau += m.density * extinctionPerDensity(m.temperature, extinction, bins) * kDs;
+                tau += m.density * extinctionPerDensity(m.temperature, kVaryingExtinction, kBins) * kDs;
             }
             constexpr int kCount = 4000;
             double sum = 0.0, sum2 = 0.0;
@@ -213,7 +217,7 @@ TEST(MajorantGrid, RefiningEveryBrickOrNoneGivesTheExactTransmittance) {
                 double weight = 1.0;
                 while (tracker.advance(exp1(gen), c)) {
                     const double sigma =
-                        c.sample.density * extinctionPerDensity(c.sample.temperature, extinction, bins);
+                        c.sample.density * extinctionPerDensity(c.sample.temperature, kVaryingExtinction, kBins);
                     ASSERT_LE(sigma, c.majorant);
                     weight *= 1.0 - sigma / c.majorant;
                     any_refined = any_refined || c.majorant < 0.99 * brickMajorantAt(grid, tracker.worldPoint(c.distance));

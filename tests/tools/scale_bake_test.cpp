@@ -3,22 +3,19 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "../support/command.h"
 #include "../support/temp_dir.h"
 
 namespace {
 
+using firelook::testing::CommandResult;
+using firelook::testing::runIn;
 using firelook::testing::TempDir;
-
-int run(const std::string& command) {
-    const int status = std::system((command + " > /dev/null 2>&1").c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
 
 nlohmann::json readJson(const std::filesystem::path& file) { return nlohmann::json::parse(std::ifstream(file)); }
 
@@ -39,19 +36,20 @@ TEST(ScaleBake, TwiceTheResolutionBakesWithinItsEstimate) {
     TempDir dir;
     std::filesystem::create_directories(dir / "x2");
     const std::string frame = std::string(FIRELOOK_SAMPLE_DIR) + "/fluid_data_0012.vdb";
-    ASSERT_EQ(run(std::string(FIRELOOK_UPSAMPLE_EXE) + " " + frame + " " + (dir / "x2/fluid_data_0012.vdb").string() +
-                  " --factor 2"),
-              0);
+    const CommandResult upsampled = runIn(dir, std::string(FIRELOOK_UPSAMPLE_EXE) + " " + frame + " " +
+                                                   (dir / "x2/fluid_data_0012.vdb").string() + " --factor 2");
+    ASSERT_EQ(upsampled.exit_code, 0) << upsampled.err;
     // Few photons and a small image keep it a few seconds; the resolution is what is tested.
     std::ofstream(dir / "bake.json") << R"({"trace": {"photons_primary": 20000, "photons_per_order": 10000}})";
     for (const char* name : {"x1", "x2"}) {
         const std::string sequence = std::string(name) == "x1" ? frame : (dir / "x2").string();
         const std::filesystem::path package = dir / (std::string(name) + ".firelook");
         const std::filesystem::path report = dir / (std::string(name) + ".report.json");
-        ASSERT_EQ(run(std::string(FIRELOOK_EXE) + " bake " + sequence + " --up z --size 32x32 --config " +
-                      (dir / "bake.json").string() + " -o " + package.string() + " --report " + report.string()),
-                  0)
-            << name;
+        const CommandResult baked =
+            runIn(dir, std::string(FIRELOOK_EXE) + " bake " + sequence + " --up z --size 32x32 --config " +
+                           (dir / "bake.json").string() + " -o " + package.string() + " --report " +
+                           report.string());
+        ASSERT_EQ(baked.exit_code, 0) << name << ": " << baked.err;
         const nlohmann::json r = readJson(report);
         expectEstimateNearPeak(r);
         const nlohmann::json& f = r.at("frames").at(0);
@@ -62,10 +60,10 @@ TEST(ScaleBake, TwiceTheResolutionBakesWithinItsEstimate) {
             // the medium is thick, as fine as the optical-depth rule allows).
             EXPECT_GE(f.at("cell_edge_voxels").get<int>(), 2);
         }
-        ASSERT_EQ(run(std::string(FIRELOOK_EXE) + " render " + package.string() + " --frame 12 --out " +
-                      (dir / (std::string(name) + ".exr")).string()),
-                  0)
-            << name;
+        const CommandResult rendered =
+            runIn(dir, std::string(FIRELOOK_EXE) + " render " + package.string() + " --frame 12 --out " +
+                           (dir / (std::string(name) + ".exr")).string());
+        ASSERT_EQ(rendered.exit_code, 0) << name << ": " << rendered.err;
     }
 }
 
@@ -73,9 +71,11 @@ TEST(ScaleBake, TwiceTheResolutionBakesWithinItsEstimate) {
 TEST(ScaleBake, BudgetBelowTheFrameWritesNothing) {
     TempDir dir;
     const std::string frame = std::string(FIRELOOK_SAMPLE_DIR) + "/fluid_data_0012.vdb";
-    EXPECT_NE(run(std::string(FIRELOOK_EXE) + " bake " + frame + " --up z --size 512x512 --memory-budget 300M -o " +
-                  (dir / "a.firelook").string()),
-              0);
+    EXPECT_NE(
+        runIn(dir, std::string(FIRELOOK_EXE) + " bake " + frame +
+                       " --up z --size 512x512 --memory-budget 300M -o " + (dir / "a.firelook").string())
+            .exit_code,
+        0);
     EXPECT_TRUE(dir.entries().empty());
 }
 

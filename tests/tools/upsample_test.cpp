@@ -3,34 +3,26 @@
 // overshoot than quadratic interpolation makes. Tolerances are measured values with a margin.
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
-#include <sys/wait.h>
 
 #include <algorithm>
-#include <cstdlib>
-#include <fstream>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "../support/command.h"
 #include "../support/temp_dir.h"
 
 namespace {
 
+using firelook::testing::CommandResult;
+using firelook::testing::runIn;
 using firelook::testing::TempDir;
 
 const std::string kFrame = std::string(FIRELOOK_SAMPLE_DIR) + "/fluid_data_0012.vdb";
 
-// Runs the tool, stderr into `err`; returns its exit status.
-int upsample(const std::string& args, const std::filesystem::path& err) {
-    const std::string command =
-        std::string(FIRELOOK_UPSAMPLE_EXE) + " " + args + " > /dev/null 2> " + err.string();
-    const int status = std::system(command.c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string readText(const std::filesystem::path& file) {
-    std::ifstream in(file);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+// Runs `firelook_upsample <args>` in `dir`.
+CommandResult upsample(const TempDir& dir, const std::string& args) {
+    return runIn(dir, std::string(FIRELOOK_UPSAMPLE_EXE) + " " + args);
 }
 
 std::map<std::string, openvdb::FloatGrid::Ptr> readGrids(const std::filesystem::path& file) {
@@ -65,8 +57,8 @@ class UpsampleFrame12 : public ::testing::Test {
   protected:
     static void SetUpTestSuite() {
         dir_ = new TempDir;
-        ASSERT_EQ(upsample(kFrame + " " + (*dir_ / "x2.vdb").string() + " --factor 2", *dir_ / "err.txt"), 0)
-            << readText(*dir_ / "err.txt");
+        const CommandResult r = upsample(*dir_, kFrame + " " + (*dir_ / "x2.vdb").string() + " --factor 2");
+        ASSERT_EQ(r.exit_code, 0) << r.err;
         in_ = readGrids(kFrame);
         out_ = readGrids(*dir_ / "x2.vdb");
     }
@@ -90,8 +82,7 @@ TEST_F(UpsampleFrame12, KeepsEveryGridWithItsClassAndBackground) {
         EXPECT_EQ(out.getGridClass(), in->getGridClass()) << name;
         EXPECT_EQ(out.background(), in->background()) << name;
     }
-    EXPECT_EQ(dir_->entries(), (std::vector<std::string>{"err.txt", "x2.vdb"}))
-        << "a temporary file was left";
+    EXPECT_EQ(dir_->entries(), std::vector<std::string>{"x2.vdb"}) << "a temporary file was left";
 }
 
 TEST_F(UpsampleFrame12, HalvesTheVoxelAndKeepsTheWorldOrigin) {
@@ -142,15 +133,15 @@ TEST_F(UpsampleFrame12, OvershootsTheMaximumLittle) {
 
 TEST(Upsample, RejectsABadFactorAndAMissingFile) {
     TempDir dir;
-    EXPECT_EQ(upsample(kFrame + " " + (dir / "out.vdb").string() + " --factor 9", dir / "err.txt"), 2);
-    EXPECT_NE(readText(dir / "err.txt").find("--factor must be an integer from 1 to 8"), std::string::npos);
-    EXPECT_NE(upsample((dir / "missing.vdb").string() + " " + (dir / "out.vdb").string() + " --factor 2",
-                       dir / "err.txt"),
-              0);
-    const std::string err = readText(dir / "err.txt");
+    CommandResult r = upsample(dir, kFrame + " " + (dir / "out.vdb").string() + " --factor 9");
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--factor must be an integer from 1 to 8"), std::string::npos);
+    r = upsample(dir, (dir / "missing.vdb").string() + " " + (dir / "out.vdb").string() + " --factor 2");
+    EXPECT_NE(r.exit_code, 0);
+    const std::string& err = r.err;
     EXPECT_NE(err.find("missing.vdb"), std::string::npos) << err;
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
-    EXPECT_EQ(dir.entries(), std::vector<std::string>{"err.txt"});
+    EXPECT_EQ(dir.entries(), std::vector<std::string>{}) << "no output and no temporary file";
 }
 
 }  // namespace

@@ -14,29 +14,10 @@
 namespace firelook::vdb {
 namespace {
 
+using namespace testing;  // vdb_test_files.h
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
-using testing::makeGrid;
-using testing::TempDir;
 using ::testing::UnorderedElementsAre;
-using testing::Voxels;
-using testing::writeVdb;
-
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-constexpr float kInf = std::numeric_limits<float>::infinity();
-
-const Voxels kDensity = {{{0, 0, 0}, 0.5f}, {{3, 1, 2}, 1.0f}, {{-2, 4, 1}, 0.25f}};
-const Voxels kTemperature = {{{0, 0, 0}, 2.0f}, {{5, 5, 5}, 3.0f}};
-
-template <typename F>
-std::string errorOf(F&& action) {
-    try {
-        action();
-    } catch (const VdbError& error) {
-        return error.what();
-    }
-    return "no error";
-}
 
 TEST(VdbSequence, MissingTemperatureGridListsTheGridsPresent) {
     TempDir dir;
