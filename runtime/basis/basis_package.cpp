@@ -1,6 +1,7 @@
 #include "basis/basis_package.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <glm/gtc/packing.hpp>
 #include <nlohmann/json.hpp>
@@ -37,6 +38,12 @@ std::vector<T> readArray(const package::PackageReader& reader, uint32_t type, in
 // max(tau e^-tau) * 2^-11 < 2e-4. The sigmoid depths are stored as their flame part
 // F = (O_a + O_b) / 2 = integral of rho (1 + f) / 2, which is exactly 0 wherever no flame
 // is crossed, so most of it compresses to nothing.
+namespace {
+// Optical depths are stored as half floats; this is the largest finite one.
+constexpr float kLargestDepth = 65504.0f;
+float finiteOr(float v, float fallback) { return std::isfinite(v) ? v : fallback; }
+}  // namespace
+
 void writeFrameFactors(package::PackageWriter& writer, const FrameFactors& factors) {
     const size_t pixels_count = static_cast<size_t>(std::max(factors.pixels, 0));
     const size_t rank = static_cast<size_t>(std::max(factors.rank, 0));
@@ -54,10 +61,19 @@ void writeFrameFactors(package::PackageWriter& writer, const FrameFactors& facto
     const size_t pixels = static_cast<size_t>(factors.pixels);
     std::vector<uint16_t> depths;
     depths.reserve(rays * (1 + thresholds));
-    for (float d : factors.depth_density) depths.push_back(glm::packHalf1x16(d));
+    // A ray deeper than the largest half is scaled down with its flame parts (the smoke/flame
+    // split kept): its transmittance exp(-k * 65504) is 0 in float for every k above 0.0016, so
+    // alpha is unchanged, and nothing overflows to inf (2F - O_b would then be NaN).
+    std::vector<float> scale(rays, 1.0f);
+    for (size_t r = 0; r < rays; ++r) {
+        const float d = factors.depth_density[r];
+        if (!(d <= kLargestDepth)) scale[r] = d > kLargestDepth ? kLargestDepth / d : 0.0f;
+        depths.push_back(glm::packHalf1x16(scale[r] > 0.0f ? d * scale[r] : kLargestDepth));
+    }
     for (size_t i = 0; i < factors.depth_sigmoid.size(); ++i) {
         const size_t ray = (i / (thresholds * pixels)) * pixels + i % pixels;
-        depths.push_back(glm::packHalf1x16(0.5f * (factors.depth_sigmoid[i] + factors.depth_density[ray])));
+        const float flame = 0.5f * (factors.depth_sigmoid[i] + factors.depth_density[ray]) * scale[ray];
+        depths.push_back(glm::packHalf1x16(std::clamp(finiteOr(flame, 0.0f), -kLargestDepth, kLargestDepth)));
     }
     writer.addSection(kSectionDepths, frame, bytesOf(depths));
 }
@@ -108,11 +124,15 @@ FrameFactors BasisPackage::loadFrame(int frame) const {
     const size_t rays = pixels * description_.footprint_samples;
     const std::vector<uint16_t> depths = readArray<uint16_t>(reader_, kSectionDepths, frame, rays * (1 + thresholds));
     f.depth_density.resize(rays);
-    for (size_t i = 0; i < rays; ++i) f.depth_density[i] = glm::unpackHalf1x16(depths[i]);
+    // Non-finite halves (packages written before depths were bounded) read as the bounds, so no
+    // depth, and no alpha, is ever NaN.
+    for (size_t i = 0; i < rays; ++i)
+        f.depth_density[i] = std::clamp(finiteOr(glm::unpackHalf1x16(depths[i]), kLargestDepth), 0.0f, kLargestDepth);
     f.depth_sigmoid.resize(rays * thresholds);
     for (size_t i = 0; i < f.depth_sigmoid.size(); ++i) {
         const size_t ray = (i / (thresholds * pixels)) * pixels + i % pixels;
-        f.depth_sigmoid[i] = 2.0f * glm::unpackHalf1x16(depths[rays + i]) - f.depth_density[ray];
+        const float flame = finiteOr(glm::unpackHalf1x16(depths[rays + i]), 0.0f);
+        f.depth_sigmoid[i] = 2.0f * flame - f.depth_density[ray];
     }
     return f;
 }

@@ -64,14 +64,22 @@ int World::acquirePackage(std::shared_ptr<const Package> package) {
     for (size_t i = 0; i < packages_.size(); ++i)
         if (!packages_[i].package) {
             packages_[i].package = std::move(package);
-            packages_[i].frames.resize(packages_[i].package->frameCount());
+            resetFrames(packages_[i]);
             return static_cast<int>(i);
         }
     PackageEntry e;
-    e.frames.resize(package->frameCount());
     e.package = std::move(package);
+    resetFrames(e);
     packages_.push_back(std::move(e));
     return static_cast<int>(packages_.size()) - 1;
+}
+
+// One empty cache entry per frame; decoded U goes through the host's allocator (firelook.h).
+void World::resetFrames(PackageEntry& e) {
+    e.frames.clear();
+    e.frames.reserve(e.package->frameCount());
+    for (int f = 0; f < e.package->frameCount(); ++f)
+        e.frames.push_back(FrameEntry{nullptr, HostVector<float>(HostAllocator<float>(&settings_.memory)), 0, 0});
 }
 
 void World::releasePackage(int index) {

@@ -147,6 +147,7 @@ class World {
         std::vector<FrameEntry> frames;  // by slot
         int users = 0;
     };
+    void resetFrames(PackageEntry& entry);
 
     int denseIndex(InstanceHandle instance) const;  // throws InvalidHandle
     int acquirePackage(std::shared_ptr<const Package> package);

@@ -164,16 +164,26 @@ Comparison compareWithReference(const ScatteringBox& box, const FrameBasis& b, i
             ref.estimated_relative_rmse * std::sqrt(ref_sum_squares) / ref_sum};
 }
 
-// Alpha: the basis's is exact up to the march (1e-3); the reference's ratio-tracking estimate is a
-// [0, 1] variable with standard error <= sqrt(1/4 / spp) = 0.031 at 256 spp; 4 of those.
-constexpr double kAlphaTolerance = 4.0 * 0.03125 + 1e-3;
+// Alpha: the basis's is exact up to the march (1e-3) and deterministic, so only the reference's
+// ratio-tracking noise shows. Its worst case is the binomial sqrt(1/4 / spp) = 0.031 per pixel at
+// 256 spp, but the emission floor's extra tentative collisions (majorant >= 8 per unit, one per
+// voxel edge, against sigma_t = 0.75-3.2 here) make most estimates fractional and the noise far
+// smaller: measured max alpha error over the 64 pixels 0.0117-0.0244 over reference seeds 7-29.
+// 0.05 is twice the worst of those (about 6 per-pixel standard errors). Alpha moves by at most
+// tau exp(-tau) <= 0.37 times a relative optical depth error, so the old 4 x 0.031 + 1e-3 = 0.126
+// let depth errors up to 34% pass; 0.05 lets 14% pass.
+constexpr double kAlphaTolerance = 0.05;
 
-// Measured with cell_voxels = 1, 2000 photons, seeds 3, 4, 5 (release build): relative RMSE
-// 0.030-0.036 at the thin point (k_s = 0.5) and 0.051-0.077 at the thick one (k_s = 4), against a
-// reference noise of 0.024 resp. 0.021; the sums were 1.4-2.1% resp. 4-7% low. Most of that bias is
-// the bug described at DISABLED_ScatteredEmissionIsNotBiasedLow (3% of the 8^3 box's sources never
-// emit photons); the rest is photon noise. Tolerance: 3 reference standard errors plus a 0.06 bias
-// allowance (the worst measured excess over the reference noise, 0.056, rounded up).
+// Measured with cell_voxels = 1, 2000 photons (release build), photon seeds 3-8 x reference seeds
+// 7-9: relative RMSE 0.024-0.032 at the thin point (k_s = 0.5) and 0.028-0.049 at the thick one
+// (k_s = 4), against a reference noise of 0.024 resp. 0.021; sum ratios 0.99-1.01 resp. 0.97-1.01
+// (the test's photon seed 3 and reference seed 7: 0.0261 and 0.0284, sums 0.9998 and 0.9996). The
+// excess over the reference noise is the basis's photon noise, in quadrature at most
+// sqrt(0.049^2 - 0.021^2) = 0.044 (photon seed 8). Tolerance: 3 reference standard errors plus 0.02
+// (0.092 resp. 0.084, 1.7 times the worst measured). It was 0.06 when the thick point measured
+// 0.051-0.077 with its sum 4-7% low, before the photon starts covered the outer half-voxel shell of
+// the trilinear support (see ScatteredEmissionIsNotBiasedLow; such a bias of the sum is what the
+// sum checks of the tests below catch, the RMSE being dominated by photon noise).
 TEST(BasisTracer, ScatteringAgreesWithReferencePathTracer) {
     const ScatteringBox box;
     TraceSettings settings = fastTrace(3);
@@ -186,7 +196,7 @@ TEST(BasisTracer, ScatteringAgreesWithReferencePathTracer) {
             "[measured] cell 1, grid point %d: relative RMSE %.4f (reference noise %.4f), sum ratio %.4f, "
             "max alpha error %.4f\n",
             point, c.rmse, c.reference_noise, c.mean_ratio, c.alpha_error);
-        EXPECT_LT(c.rmse, 3.0 * c.reference_noise + 0.06) << "grid point " << point;
+        EXPECT_LT(c.rmse, 3.0 * c.reference_noise + 0.02) << "grid point " << point;
         EXPECT_LT(c.alpha_error, kAlphaTolerance) << "grid point " << point;
     }
 }

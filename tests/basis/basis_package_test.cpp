@@ -113,6 +113,28 @@ TEST(BasisPackage, FactorsRoundTrip) {
     }
 }
 
+// Optical depths beyond the largest half (a density of 1e6 over a unit path) are stored scaled
+// down with their flame parts, never as inf: read back they are finite, the smoke/flame split is
+// kept to half precision, and the transmittance is 0 for any extinction above 0.0016 either way.
+TEST(BasisPackage, HugeOpticalDepthsStayFinite) {
+    TempDir dir;
+    const BakeDescription d = description();
+    FrameFactors f = factors(d, 1, 1);
+    for (size_t i = 0; i < f.depth_density.size(); ++i) f.depth_density[i] = i % 2 ? 1e30f : 7e4f;
+    for (size_t i = 0; i < f.depth_sigmoid.size(); ++i) {
+        const float o_b = f.depth_density[i % f.pixels];
+        f.depth_sigmoid[i] = (i % 3 == 0 ? 1.0f : i % 3 == 1 ? -1.0f : 0.5f) * o_b;  // all flame, all smoke, 3/4 flame
+    }
+    writePackage(dir / "a.firelook", d, {f});
+    const FrameFactors read = BasisPackage::open(dir / "a.firelook").loadFrame(1);
+    for (size_t i = 0; i < read.depth_density.size(); ++i) EXPECT_EQ(read.depth_density[i], 65504.0f) << i;
+    for (size_t i = 0; i < read.depth_sigmoid.size(); ++i) {
+        ASSERT_TRUE(std::isfinite(read.depth_sigmoid[i])) << i;
+        const float ratio = read.depth_sigmoid[i] / 65504.0f;
+        EXPECT_NEAR(ratio, i % 3 == 0 ? 1.0f : i % 3 == 1 ? -1.0f : 0.5f, 2e-3) << i;
+    }
+}
+
 TEST(BasisPackage, MissingFrameNamesTheFile) {
     TempDir dir;
     const BakeDescription d = description();

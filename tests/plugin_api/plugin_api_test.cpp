@@ -164,7 +164,7 @@ TEST_F(PluginApi, PackageInfoFramesAndDefaultLook) {
 // The allocator promise of firelook.h (fl_allocator): a world's large buffers (images, flare images,
 // coefficients, decoded factor copies) come from the host allocator, and nothing is left for the
 // caller to free, so destroying the world gives every one of them back. Measured: fl_instance_create
-// takes 4 (96, 192, 12 and 96 bytes: the look's bins and light and the coefficients),
+// takes 4 (96, 192, 12 and 96 bytes: the per-instance coefficients, 16 bin weights, light, scratch),
 // fl_instance_set_outputs 1 (the 16 x 12 x 4-float image, 3072 bytes), fl_world_update none here
 // (see DecodedFactorsComeFromTheHostAllocator for the decoded U it should take), and
 // fl_world_destroy frees all 5.
@@ -283,8 +283,19 @@ TEST_F(PluginApi, DecodedFactorsComeFromTheHostAllocator) {
     ASSERT_EQ(fl_instance_set_playback(world, inst, &pb), FL_OK);
     const size_t before_update = allocationCount();
     ASSERT_EQ(fl_world_update(world, 0.0), FL_OK);
-    size_t n_u = 0;
-    ASSERT_EQ(fl_package_get_frame_u(p, 4, nullptr, 0, &n_u), FL_OK);
+    // The decoded U is pixels x rank floats (fl_package_get_frame_u's texture layout pads the rank
+    // to a multiple of 4, so it is not the size to expect).
+    fl_package_info info{};
+    info.struct_size = sizeof info;
+    ASSERT_EQ(fl_package_get_info(p, &info), FL_OK);
+    int32_t numbers[16] = {}, ranks[16] = {};
+    uint32_t frames = 0;
+    ASSERT_EQ(fl_package_get_frames(p, numbers, ranks, 16, &frames), FL_OK);
+    int32_t rank = 0;
+    for (uint32_t f = 0; f < frames && f < 16; ++f)
+        if (numbers[f] == 4) rank = ranks[f];
+    ASSERT_GT(rank, 0);
+    const size_t n_u = static_cast<size_t>(info.width) * info.height * rank;
     EXPECT_GE(largestAllocationSince(before_update), n_u * sizeof(float))
         << "the decoded U of frame 4 (" << n_u << " floats) did not come from the host allocator";
     EXPECT_EQ(fl_world_destroy(world), FL_OK);

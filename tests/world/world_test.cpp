@@ -187,6 +187,12 @@ TEST(World, BetweenKeysWithNonNegativeFitsMeasured) {
     const ResolvedLook ra = resolveLook(a, d), rb = resolveLook(b, d);
     const EmissionBasis basis{d.bins, d.rbf_width};
     double worst = 0.0;
+    // Key a's own fit misses its step at the bin centres by this (of the peak, 10).
+    double own_miss = 0.0;
+    for (int j = 0; j < d.bins.count; ++j) {
+        const Rgb x = EmissionFunction{basis, ra.rbf}.evaluate(d.bins.center(j));
+        for (int c = 0; c < 3; ++c) own_miss = std::max(own_miss, std::abs(static_cast<double>(x[c] - ea[j][c])) / 10.0);
+    }
     for (double t = 0.0; t <= 1.0; t += 0.125) {
         const Look blended = interpolateLooks(a, b, t, d.bins);
         const LookModel fit_of_blend = makeLookModel(blended, d.bins, d.rbf_width, d.light_directions);
@@ -201,9 +207,18 @@ TEST(World, BetweenKeysWithNonNegativeFitsMeasured) {
         }
     }
     RecordProperty("blend_of_fits_vs_fit_of_blend_max_rel", std::to_string(worst));
-    std::printf("step key: blend of fits vs fit of blend, max |dL_e| at bin centres = %.4f of the peak emissivity\n",
-                worst);
-    EXPECT_LT(worst, 0.25);  // the fit itself misses the centres next to a step by ~11% (look_model.h)
+    std::printf("step key: blend of fits vs fit of blend, max |dL_e| at bin centres = %.4f of the peak emissivity "
+                "(key a's own fit misses by %.4f)\n",
+                worst, own_miss);
+    // At the centres the blend of fits misses the blended emissivity by (1 - t) times key a's own
+    // miss (key b's fit is exact), and the fit of the blend by at most about as much, so the two
+    // differ by at most ~2 (1 - t) own_miss; the fit of a step misses the centres next to it by ~11%
+    // (look_model.h). Measured: own_miss 0.1149; the fit of the blend misses by 0.074 at t = 0.125,
+    // 0.035 at 0.25 and is exact from t = 0.375 on, where the difference peaks at 0.0718 =
+    // 0.625 * 0.1149. No sampling: the figure is deterministic up to float rounding in the
+    // non-negative fit, so 0.08 (11% over it) only fails if the fits change.
+    EXPECT_LT(worst, 0.08);
+    EXPECT_LT(worst, 2.0 * own_miss);
 }
 
 TEST(World, PlaybackPicksBakedFramesAndLoops) {
