@@ -3,6 +3,7 @@
 #include "bake/bake_pipeline.h"
 
 #include <tbb/global_control.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -126,6 +127,18 @@ TEST(BakePipeline, BudgetBelowTheFrameStopsBeforeTracing) {
     }
     EXPECT_EQ(traced, 0.0) << "no tracing progress before the refusal";
     EXPECT_TRUE(dir.entries().empty());
+}
+
+// --help promises the default budget: 60% of the machine's physical memory.
+TEST(BakePipeline, DefaultBudgetIsSixtyPercentOfPhysicalMemory) {
+    const double physical = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+    ASSERT_GT(physical, 0.0);
+    EXPECT_NEAR(static_cast<double>(defaultMemoryBudget()) / physical, 0.6, 1e-6);
+    // The bake records the budget it ran under.
+    TempDir dir;
+    const BakeReport report = bakePackage(FIRELOOK_SAMPLE_DIR, dir / "a.firelook", tinyConfig(), "test");
+    EXPECT_EQ(report.memory_budget_bytes, defaultMemoryBudget());
+    EXPECT_LE(report.frames.at(0).estimated_peak_bytes, report.memory_budget_bytes);
 }
 
 // A tighter budget coarsens the scattered-light cells instead of failing, and the plan's estimate

@@ -28,7 +28,13 @@ void expectEstimateNearPeak(const nlohmann::json& report) {
     const double peak = report.at("peak_memory_mib").get<double>();
     const double estimate = report.at("frames").at(0).at("estimated_peak_mib").get<double>();
     std::printf("[measured] estimated %.0f MiB, peak %.0f MiB (ratio %.2f)\n", estimate, peak, estimate / peak);
+#if defined(__SANITIZE_ADDRESS__)
+    // The estimate models the normal build; under AddressSanitizer its shadow memory and the
+    // quarantine of freed blocks (256 MiB by default) add to the peak (measured ratio 0.58-0.70),
+    // so only the upper bound is checked here.
+#else
     EXPECT_GE(estimate, 0.8 * peak);
+#endif
     EXPECT_LE(estimate, 2.0 * peak);
 }
 
