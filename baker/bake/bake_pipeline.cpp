@@ -181,13 +181,12 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
                 ", scattered light " + mib(plan.trace.cell_bytes) + ", medium " + mib(plan.trace.medium_bytes) +
                 ", compression " + mib(plan.compression_bytes) + "), more than the memory budget of " + mib(budget) +
                 "; lower --size, --bins or the look axes' samples, or raise --memory-budget");
-        trace.memory_budget_bytes = plan.trace.totalBytes();  // the cell size the plan chose
         fr.cell_edge_voxels = plan.trace.cell_edge_voxels;
         fr.light_spacing_voxels = plan.trace.light_spacing_voxels;
         fr.cell_optical_depth = plan.trace.cell_optical_depth;
         fr.estimated_peak_bytes = plan.peakBytes();
         auto t0 = std::chrono::steady_clock::now();
-        const FrameBasis traced = traceFrameBasis(medium, scene.camera, model, trace, frame_progress);
+        const FrameBasis traced = traceFrameBasis(medium, scene.camera, model, trace, plan.trace, frame_progress);
         fr.trace_seconds = secondsSince(t0);
         fr.scattering_orders = traced.scattering_orders;
         fr.last_order_fraction = traced.last_order_fraction;

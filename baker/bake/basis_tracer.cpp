@@ -8,7 +8,6 @@
 #include <chrono>
 #include <cmath>
 #include <mutex>
-#include <numbers>
 #include <stdexcept>
 
 #include "bake/index_ray.h"
@@ -20,10 +19,6 @@
 
 namespace firelook::bake {
 namespace {
-
-constexpr float kInv4Pi = static_cast<float>(0.25 / std::numbers::pi);
-// Below this transmittance at the thinnest grid point a path adds nothing visible.
-constexpr float kNegligibleTransmittance = 1e-5f;
 
 // Progress from worker threads: one report at a time (whoever gets the lock), and a stop flag every
 // loop polls so a cancel ends the work within a fraction of a second.
@@ -67,30 +62,6 @@ void validateModel(const BasisModel& model) {
         throw std::invalid_argument("at most 64 samples per parameter axis and 1..64 alpha thresholds");
 }
 
-// Cells touched by the medium's non-empty bricks: an upper bound on the slots, from brick data only.
-std::size_t slotUpperBound(const render::Medium& medium, int edge) {
-    const glm::ivec3 count = glm::max((medium.dims() + 2 + edge - 1) / edge, glm::ivec3(1));
-    std::vector<char> touched(static_cast<std::size_t>(count.x) * count.y * count.z, 0);
-    const glm::ivec3 bricks = medium.brickCounts();
-    const int size = render::Medium::kBrickSize;
-    std::size_t n = 0;
-    for (int z = 0; z < bricks.z; ++z)
-        for (int y = 0; y < bricks.y; ++y)
-            for (int x = 0; x < bricks.x; ++x) {
-                if (!(medium.brick({x, y, z}).max_density > 0.0f)) continue;
-                const glm::ivec3 lo = glm::ivec3(x, y, z) * size / edge;
-                const glm::ivec3 hi = glm::min((glm::ivec3(x, y, z) * size + size - 1) / edge, count - 1);
-                for (int cz = lo.z; cz <= hi.z; ++cz)
-                    for (int cy = lo.y; cy <= hi.y; ++cy)
-                        for (int cx = lo.x; cx <= hi.x; ++cx) {
-                            char& t = touched[cx + static_cast<std::size_t>(count.x) * (cy + static_cast<std::size_t>(count.y) * cz)];
-                            n += t == 0;
-                            t = 1;
-                        }
-            }
-    return n;
-}
-
 }  // namespace
 
 TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& camera, const BasisModel& model,
@@ -121,8 +92,7 @@ TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& cam
         return 2 * field + photonPassBytes(slots * G * C) + slots * G * sizeof(float) +
                scatterCellCount(medium, edge) * 2 * tb.n_tc * sizeof(double);
     };
-    const glm::ivec3 points = medium.dims() + 2;
-    const int longest = std::max({points.x, points.y, points.z});
+    const int longest = longestInfluenceAxis(medium);
     float max_density = 0.0f;
     const glm::ivec3 bricks = medium.brickCounts();
     for (int z = 0; z < bricks.z; ++z)
@@ -137,7 +107,7 @@ TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& cam
     }
     for (;;) {
         plan.cell_edge_voxels = edge;
-        plan.cell_slots = model.albedo > 0.0 ? slotUpperBound(medium, edge) : 0;
+        plan.cell_slots = model.albedo > 0.0 ? scatterSlotUpperBound(medium, edge) : 0;
         plan.cell_bytes = model.albedo > 0.0 ? cellBytes(edge, plan.cell_slots) : 0;
         if (settings.memory_budget_bytes == 0 || plan.totalBytes() <= settings.memory_budget_bytes) break;
         if (edge >= longest) {
@@ -152,6 +122,12 @@ TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& cam
 
 FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& camera,
                            const BasisModel& model, const TraceSettings& settings,
+                           const std::function<bool(double)>& progress) {
+    return traceFrameBasis(medium, camera, model, settings, planFrameTrace(medium, camera, model, settings), progress);
+}
+
+FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& camera,
+                           const BasisModel& model, const TraceSettings& settings, const TracePlan& plan,
                            const std::function<bool(double)>& progress) {
     validateModel(model);
     ProgressGate gate(progress);
@@ -170,7 +146,6 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     if (medium.empty()) return out;
 
     auto clock = std::chrono::steady_clock::now();
-    const TracePlan plan = planFrameTrace(medium, camera, model, settings);
     out.cell_edge_voxels = plan.cell_edge_voxels;
     out.light_spacing_voxels = plan.light_spacing_voxels;
     out.cell_optical_depth = plan.cell_optical_depth;

@@ -1,6 +1,7 @@
 // Rays in a medium's index space and the fixed-step march every pass of the basis tracer uses.
 #pragma once
 
+#include <algorithm>
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
@@ -29,6 +30,14 @@ struct IndexBox {
 
 inline IndexBox influenceBox(const render::Medium& medium) {
     return {glm::dvec3(medium.origin()) - 1.0, glm::dvec3(medium.origin() + medium.dims())};
+}
+
+// Index points of the influence box along each axis (both ends included), and the most of any axis:
+// what the cell and light-lattice sizes are counted against.
+inline glm::ivec3 influencePoints(const render::Medium& medium) { return medium.dims() + 2; }
+inline int longestInfluenceAxis(const render::Medium& medium) {
+    const glm::ivec3 points = influencePoints(medium);
+    return std::max({points.x, points.y, points.z});
 }
 
 inline bool clipToBox(const IndexRay& ray, const IndexBox& box, double& t0, double& t1) {

@@ -7,11 +7,6 @@
 #include "bake/index_ray.h"
 
 namespace firelook::bake {
-namespace {
-// Below this transmittance at the thinnest grid point the light adds nothing visible.
-constexpr float kNegligibleTransmittance = 1e-5f;
-}  // namespace
-
 void LightDepthField::sample(int light, const glm::dvec3& index_point, float* smoke, float* flame) const {
     const glm::dvec3 u =
         glm::clamp((index_point - origin) / static_cast<double>(spacing), glm::dvec3(0.0), glm::dvec3(count - 1));
@@ -35,10 +30,8 @@ void LightDepthField::sample(int light, const glm::dvec3& index_point, float* sm
 }
 
 int lightLatticeSpacing(const render::Medium& medium, int max_per_axis) {
-    const glm::ivec3 points = medium.dims() + 2;
-    const int longest = std::max({points.x, points.y, points.z});
     const int per_axis = std::max(max_per_axis, 2);
-    return std::max(1, (longest + per_axis - 1) / per_axis);
+    return std::max(1, (longestInfluenceAxis(medium) + per_axis - 1) / per_axis);
 }
 
 glm::ivec3 lightLatticeCount(const render::Medium& medium, int spacing) {

@@ -11,14 +11,11 @@
 namespace firelook::bake {
 namespace {
 
-constexpr float kInv4Pi = static_cast<float>(0.25 / std::numbers::pi);
 // Photons of one pass are split into this many chunks with their own accumulation buffers, summed
 // in a fixed order, so the result does not depend on the number of threads. Chunks run two at a
 // time: memory holds the result and two buffers whatever the machine.
 constexpr int kPhotonChunks = 4;
 constexpr int kChunksAtOnce = 2;
-// Below this transmittance at the thinnest grid point a path adds nothing visible.
-constexpr float kNegligibleTransmittance = 1e-5f;
 
 glm::dvec3 uniformDirection(render::Pcg32& rng) {
     const double z = 1.0 - 2.0 * rng.uniform();

@@ -55,22 +55,50 @@ void ScatterCells::normalise(std::vector<float>& field, int points, int columns)
 }
 
 int scatterCellEdge(const render::Medium& medium, int min_voxels, int max_per_axis) {
-    const glm::ivec3 points = medium.dims() + 2;
-    const int longest = std::max({points.x, points.y, points.z});
-    const int by_extent = (longest + std::max(max_per_axis, 1) - 1) / std::max(max_per_axis, 1);
+    const int per_axis = std::max(max_per_axis, 1);
+    const int by_extent = (longestInfluenceAxis(medium) + per_axis - 1) / per_axis;
     return std::max({min_voxels, by_extent, 1});
 }
 
+glm::ivec3 scatterCellCounts(const render::Medium& medium, int edge) {
+    return glm::max((influencePoints(medium) + edge - 1) / edge, glm::ivec3(1));
+}
+
 std::size_t scatterCellCount(const render::Medium& medium, int edge) {
-    const glm::ivec3 count = glm::max((medium.dims() + 2 + edge - 1) / edge, glm::ivec3(1));
+    const glm::ivec3 count = scatterCellCounts(medium, edge);
     return static_cast<std::size_t>(count.x) * count.y * count.z;
+}
+
+std::size_t scatterSlotUpperBound(const render::Medium& medium, int edge) {
+    // Bricks and cells both start at the influence box's low corner.
+    const glm::ivec3 count = scatterCellCounts(medium, edge);
+    std::vector<char> touched(scatterCellCount(medium, edge), 0);
+    const glm::ivec3 bricks = medium.brickCounts();
+    const int size = render::Medium::kBrickSize;
+    std::size_t n = 0;
+    for (int z = 0; z < bricks.z; ++z)
+        for (int y = 0; y < bricks.y; ++y)
+            for (int x = 0; x < bricks.x; ++x) {
+                if (!(medium.brick({x, y, z}).max_density > 0.0f)) continue;
+                const glm::ivec3 lo = glm::ivec3(x, y, z) * size / edge;
+                const glm::ivec3 hi = glm::min((glm::ivec3(x, y, z) * size + size - 1) / edge, count - 1);
+                for (int cz = lo.z; cz <= hi.z; ++cz)
+                    for (int cy = lo.y; cy <= hi.y; ++cy)
+                        for (int cx = lo.x; cx <= hi.x; ++cx) {
+                            char& t = touched[cx + static_cast<std::size_t>(count.x) *
+                                                       (cy + static_cast<std::size_t>(count.y) * cz)];
+                            n += t == 0;
+                            t = 1;
+                        }
+            }
+    return n;
 }
 
 ScatterCells buildScatterCells(const render::Medium& medium, const TraceTables& tb, int edge) {
     ScatterCells cells;
     cells.edge = std::max(edge, 1);
     cells.origin = influenceBox(medium).lo;
-    cells.count = glm::max((medium.dims() + 2 + cells.edge - 1) / cells.edge, glm::ivec3(1));
+    cells.count = scatterCellCounts(medium, cells.edge);
     const std::size_t n_cells = static_cast<std::size_t>(cells.count.x) * cells.count.y * cells.count.z;
     // Per cell, the integrals of the smoke and flame parts of the density per sampled T_c: sigma_s
     // of every grid point is a linear combination of them, so 2 n_tc sums give all G masses.

@@ -49,8 +49,12 @@ struct ScatterCells {
 // has more than `max_per_axis` cells (the scattered light is smooth; its memory and photon noise
 // then follow the world extent, not the resolution).
 int scatterCellEdge(const render::Medium& medium, int min_voxels, int max_per_axis);
-// Number of cells of that edge over the medium's influence box (an upper bound on the slots).
+// Cells of that edge along each axis of the medium's influence box, and all of them.
+glm::ivec3 scatterCellCounts(const render::Medium& medium, int edge);
 std::size_t scatterCellCount(const render::Medium& medium, int edge);
+// Cells touched by the medium's non-empty bricks: an upper bound on the slots buildScatterCells
+// gives, from brick data only (no sampling), for the memory plan.
+std::size_t scatterSlotUpperBound(const render::Medium& medium, int edge);
 
 ScatterCells buildScatterCells(const render::Medium& medium, const TraceTables& tables, int edge);
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 #include "bake/basis_tracer.h"
@@ -16,6 +17,10 @@ inline constexpr double kRbfSupport = 4.0;
 // Arrays on the stack hold one value per sampled T_c (or per axis sample): the model is checked
 // against this bound before tracing.
 inline constexpr int kMaxAxisSamples = 64;
+// Below this transmittance at the thinnest grid point a path adds nothing visible: marches stop.
+inline constexpr float kNegligibleTransmittance = 1e-5f;
+// The isotropic phase function.
+inline constexpr float kInv4Pi = static_cast<float>(0.25 / std::numbers::pi);
 
 struct TraceTables {
     int n_tc = 0, n_ks = 0, n_kf = 0, points = 0, bins = 0, lights = 0, columns = 0, n_alpha = 0;
