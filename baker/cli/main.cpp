@@ -24,11 +24,9 @@ int main(int argc, char** argv) {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
-    } catch (const firelook::cli::InterruptedError& e) {
-        std::fprintf(stderr, "firelook: %s\n", e.what());
-        return firelook::cli::interruptExitCode();
     } catch (const std::exception& e) {
-        // Work cancelled by a signal may unwind with another error (a library's "cancelled").
+        // After a signal, whatever unwinds (InterruptedError, or a library's "cancelled") is the
+        // interruption.
         if (firelook::cli::interruptRequested()) {
             std::fprintf(stderr, "firelook: %s\n", firelook::cli::InterruptedError().what());
             return firelook::cli::interruptExitCode();

@@ -125,6 +125,23 @@ TEST(PluginApiInit, ResultStrings) {
     EXPECT_STREQ(fl_result_string(FL_ERROR_INVALID_HANDLE), "FL_ERROR_INVALID_HANDLE");
 }
 
+// An instance of `package` drawing its CPU image, paused on frame 4 (time 1 s at rate 1); look 0
+// is the package's default.
+void createPausedImageInstance(fl_world world, fl_package package, fl_look look, fl_instance* inst) {
+    fl_instance_desc idesc = fl_instance_desc_defaults();
+    idesc.package = package;
+    idesc.look = look;
+    ASSERT_EQ(fl_instance_create(world, &idesc, inst), FL_OK) << fl_last_error();
+    fl_outputs_desc out = fl_outputs_desc_defaults();
+    out.image = 1;
+    ASSERT_EQ(fl_instance_set_outputs(world, *inst, &out), FL_OK);
+    fl_playback_desc pb = fl_playback_desc_defaults();
+    pb.paused = 1;
+    pb.rate = 1.0;
+    pb.time = 1.0;  // frame 4
+    ASSERT_EQ(fl_instance_set_playback(world, *inst, &pb), FL_OK);
+}
+
 TEST_F(PluginApi, PackageInfoFramesAndDefaultLook) {
     const fl_package p = load();
     fl_package_info info = fl_package_info_defaults();
@@ -176,19 +193,8 @@ TEST_F(PluginApi, ImageEqualsRenderLookImageAndGpuDataReproducesIt) {
     ASSERT_EQ(fl_world_create(nullptr, &world), FL_OK);
     fl_look look{};
     ASSERT_EQ(fl_look_from_json(kLookJson, 0, "test look", &look), FL_OK) << fl_last_error();
-    fl_instance_desc idesc = fl_instance_desc_defaults();
-    idesc.package = p;
-    idesc.look = look;
     fl_instance inst{};
-    ASSERT_EQ(fl_instance_create(world, &idesc, &inst), FL_OK) << fl_last_error();
-    fl_outputs_desc out = fl_outputs_desc_defaults();
-    out.image = 1;
-    ASSERT_EQ(fl_instance_set_outputs(world, inst, &out), FL_OK);
-    fl_playback_desc pb = fl_playback_desc_defaults();
-    pb.paused = 1;
-    pb.rate = 1.0;
-    pb.time = 1.0;  // frame 4
-    ASSERT_EQ(fl_instance_set_playback(world, inst, &pb), FL_OK);
+    ASSERT_NO_FATAL_FAILURE(createPausedImageInstance(world, p, look, &inst));
     std::vector<float> image(16 * 12 * 4);
     EXPECT_EQ(fl_instance_get_image(world, inst, image.data(), image.size()), FL_ERROR_NO_DATA);
     ASSERT_EQ(fl_world_update(world, 0.0), FL_OK);
@@ -269,18 +275,8 @@ TEST_F(PluginApi, DecodedFactorsComeFromTheHostAllocator) {
     const long allocs_at_start = g_allocs, frees_at_start = g_frees;
     fl_world world{};
     ASSERT_EQ(fl_world_create(nullptr, &world), FL_OK);
-    fl_instance_desc idesc = fl_instance_desc_defaults();
-    idesc.package = p;
     fl_instance inst{};
-    ASSERT_EQ(fl_instance_create(world, &idesc, &inst), FL_OK) << fl_last_error();
-    fl_outputs_desc out = fl_outputs_desc_defaults();
-    out.image = 1;
-    ASSERT_EQ(fl_instance_set_outputs(world, inst, &out), FL_OK);
-    fl_playback_desc pb = fl_playback_desc_defaults();
-    pb.paused = 1;
-    pb.rate = 1.0;
-    pb.time = 1.0;  // frame 4
-    ASSERT_EQ(fl_instance_set_playback(world, inst, &pb), FL_OK);
+    ASSERT_NO_FATAL_FAILURE(createPausedImageInstance(world, p, fl_look{}, &inst));
     const size_t before_update = allocationCount();
     ASSERT_EQ(fl_world_update(world, 0.0), FL_OK);
     // The decoded U is pixels x rank floats (fl_package_get_frame_u's texture layout pads the rank
