@@ -103,9 +103,12 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         }
         if (j.contains("compression")) {
             const json& t = j["compression"];
-            checkKeys(t, {"target_relative_error", "max_rank"}, "compression");
+            checkKeys(t, {"target_relative_error", "max_rank", "alpha_error", "footprint_error", "basis_error"}, "compression");
             c.compression.target_relative_error = t.value("target_relative_error", c.compression.target_relative_error);
             c.compression.max_rank = t.value("max_rank", c.compression.max_rank);
+            c.storage.alpha_error = t.value("alpha_error", c.storage.alpha_error);
+            c.storage.basis_error = t.value("basis_error", c.storage.basis_error);
+            c.storage.footprint_error = t.value("footprint_error", c.storage.footprint_error);
         }
         basis::validateAxes(c.axes);
         if (c.bins < 1 || c.bins > 256) throw std::invalid_argument("bins must be 1..256");
@@ -175,7 +178,10 @@ std::string configToJson(const BakeConfig& c) {
                   {"order_tolerance", c.trace.order_tolerance},   {"step_voxels", c.trace.step_voxels},
                   {"footprint_samples_per_axis", c.trace.footprint_samples_per_axis}};
     j["compression"] = {{"target_relative_error", c.compression.target_relative_error},
-                        {"max_rank", c.compression.max_rank}};
+                        {"max_rank", c.compression.max_rank},
+                        {"alpha_error", c.storage.alpha_error},
+                        {"footprint_error", c.storage.footprint_error},
+                        {"basis_error", c.storage.basis_error}};
     j["seed"] = c.seed;
     return j.dump();
 }

@@ -10,6 +10,7 @@
 #include "bake/basis_compression.h"
 #include "bake/basis_tracer.h"
 #include "bake/scene_setup.h"
+#include "basis/frame_codec.h"
 #include "basis/parameter_grid.h"
 #include "vdb/read_options.h"
 
@@ -28,6 +29,8 @@ struct BakeConfig {
     int alpha_threshold_samples = 21;  // T_c samples of the per-pixel optical depths (exact alpha)
     TraceSettings trace;
     CompressionSettings compression;
+    // How precisely the package stores each frame (JSON: under "compression").
+    basis::FrameCodecSettings storage;
     uint64_t seed = 1;
     // Bytes the bake may hold at its peak (firelook bake --memory-budget); 0 = defaultMemoryBudget().
     uint64_t memory_budget_bytes = 0;

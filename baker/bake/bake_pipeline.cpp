@@ -200,14 +200,23 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         fr.compress_seconds = secondsSince(t0);
         fr.rank = compressed.factors.rank;
         fr.truncation_error = compressed.truncation_error;
-        fr.quantisation_error = compressed.quantisation_error;
-        writeFrameFactors(writer, compressed.factors);
+        const basis::StoredFrame stored =
+            writeFrameFactors(writer, description, compressed.factors, config.storage);
+        fr.quantisation_error = std::hypot(compressed.quantisation_error, stored.u_error, stored.svt_error);
+        fr.detailed_pixels = stored.detailed_pixels;
+        fr.alpha_storage_bound = stored.alpha_bound;
+        fr.u_bytes = stored.u_bytes;
+        fr.svt_bytes = stored.svt_bytes;
+        fr.depth_bytes = stored.depth_bytes;
         description.frames.push_back({frame_number, fr.rank});
         report.uncompressed_basis_bytes += traced.matrix.size() * sizeof(float);
         frame_errors.push_back({{"frame", frame_number},
                                 {"rank", fr.rank},
                                 {"svd_truncation_relative_error", fr.truncation_error},
-                                {"half_quantisation_relative_error", fr.quantisation_error},
+                                {"storage_relative_error", fr.quantisation_error},
+                                {"pixels_with_footprint_rays", fr.detailed_pixels},
+                                {"alpha_storage_error_bound", fr.alpha_storage_bound},
+                                {"bytes", {{"u", fr.u_bytes}, {"svt", fr.svt_bytes}, {"depths", fr.depth_bytes}}},
                                 {"scattering_orders", fr.scattering_orders},
                                 {"cell_edge_voxels", fr.cell_edge_voxels},
                                 {"light_spacing_voxels", fr.light_spacing_voxels},

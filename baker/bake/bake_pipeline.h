@@ -17,7 +17,10 @@ struct FrameBakeReport {
     int frame = 0;
     int rank = 0;
     double truncation_error = 0.0;
-    double quantisation_error = 0.0;
+    double quantisation_error = 0.0;  // of U and S V^T as stored, relative to ||B||_F
+    size_t detailed_pixels = 0;       // pixels that keep all their footprint rays
+    double alpha_storage_bound = 0.0;  // largest alpha error the stored depths can add
+    uint64_t u_bytes = 0, svt_bytes = 0, depth_bytes = 0;  // the frame's sections in the package
     int scattering_orders = 0;
     double last_order_fraction = 0.0;
     double trace_seconds = 0.0;

@@ -4,7 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bake/bake_pipeline.h"
-#include "cli/atomic_write.h"
+#include "common/atomic_file.h"
 #include "cli/commands.h"
 #include "cli/interrupt.h"
 #include "cli/progress_bar.h"
@@ -21,7 +21,11 @@ void writeReportJson(const std::string& path, const bake::BakeReport& report) {
         frames.push_back({{"frame", f.frame},
                           {"rank", f.rank},
                           {"svd_truncation_relative_error", f.truncation_error},
-                          {"half_quantisation_relative_error", f.quantisation_error},
+                          {"storage_relative_error", f.quantisation_error},
+                          {"pixels_with_footprint_rays", f.detailed_pixels},
+                          {"alpha_storage_error_bound", f.alpha_storage_bound},
+                          {"bytes", f.u_bytes + f.svt_bytes + f.depth_bytes},
+                          {"section_bytes", {{"u", f.u_bytes}, {"svt", f.svt_bytes}, {"depths", f.depth_bytes}}},
                           {"scattering_orders", f.scattering_orders},
                           {"trace_seconds", f.trace_seconds},
                           {"trace_stage_seconds",
@@ -82,11 +86,13 @@ void registerBakeCommand(CLI::App& app) {
                     args->output.c_str(), report.frames.size(), report.package_bytes / 1e6,
                     100.0 * report.package_bytes / std::max<double>(1.0, report.uncompressed_basis_bytes),
                     report.uncompressed_basis_bytes / 1e6);
-        std::printf("%6s %5s %10s %10s %7s %9s %9s\n", "frame", "rank", "svd err", "half err", "orders", "trace s",
-                    "svd s");
+        std::printf("%6s %5s %10s %10s %9s %9s %9s %9s %7s %9s %9s\n", "frame", "rank", "svd err", "store err",
+                    "alpha err", "KiB", "U KiB", "depth KiB", "orders", "trace s", "svd s");
         for (const bake::FrameBakeReport& f : report.frames)
-            std::printf("%6d %5d %10.2e %10.2e %7d %9.1f %9.1f\n", f.frame, f.rank, f.truncation_error,
-                        f.quantisation_error, f.scattering_orders, f.trace_seconds, f.compress_seconds);
+            std::printf("%6d %5d %10.2e %10.2e %9.1e %9.1f %9.1f %9.1f %7d %9.1f %9.1f\n", f.frame, f.rank,
+                        f.truncation_error, f.quantisation_error, f.alpha_storage_bound,
+                        (f.u_bytes + f.svt_bytes + f.depth_bytes) / 1024.0, f.u_bytes / 1024.0,
+                        f.depth_bytes / 1024.0, f.scattering_orders, f.trace_seconds, f.compress_seconds);
         std::printf("bake time %.1f s, peak memory %.0f MiB (budget %.0f MiB)\n", report.seconds,
                     report.peak_memory_kib / 1024.0, report.memory_budget_bytes / 1048576.0);
         if (!args->report_json.empty()) writeReportJson(args->report_json, report);

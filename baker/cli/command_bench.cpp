@@ -19,12 +19,12 @@
 #include <optional>
 
 #include "bake/basis_tracer.h"
+#include "common/atomic_file.h"
 #include "bake/bake_pipeline.h"
 #include "bake/scene_setup.h"
 #include "basis/basis_package.h"
 #include "basis/look_renderer.h"
 #include "basis/recombine.h"
-#include "cli/atomic_write.h"
 #include "cli/commands.h"
 #include "cli/interrupt.h"
 #include "cli/progress_bar.h"

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "basis/basis_package.h"
@@ -54,6 +55,18 @@ ordered_json packageInfo(const std::filesystem::path& path) {
                             {"required", s.required()}});
     }
     info["sections"] = sections;
+    // Stored bytes by section kind and by frame (what a streaming engine holds per frame).
+    std::map<std::string, uint64_t> by_kind;
+    std::map<uint32_t, uint64_t> by_frame;
+    for (const package::SectionInfo& s : reader.sections()) {
+        by_kind[fourcc(s.type)] += s.stored_size;
+        if (s.frame != package::kNoFrame) by_frame[s.frame] += s.stored_size;
+    }
+    ordered_json kinds = ordered_json::object(), frames = ordered_json::array();
+    for (const auto& [kind, bytes] : by_kind) kinds[kind] = bytes;
+    for (const auto& [frame, bytes] : by_frame) frames.push_back({{"frame", frame}, {"stored_bytes", bytes}});
+    info["bytes_by_kind"] = kinds;
+    info["bytes_by_frame"] = frames;
     if (const std::optional<std::string> meta = reader.metadata()) {
         const ordered_json doc = ordered_json::parse(*meta, nullptr, false);
         if (!doc.is_discarded()) info["metadata"] = doc;
@@ -130,6 +143,19 @@ void printPackage(const ordered_json& info) {
                     s["codec"].get<std::string>().c_str(),
                     static_cast<unsigned long long>(s["stored_bytes"].get<uint64_t>()),
                     static_cast<unsigned long long>(s["raw_bytes"].get<uint64_t>()));
+    std::printf("  stored bytes by kind:");
+    for (const auto& [kind, bytes] : info["bytes_by_kind"].items())
+        std::printf(" %s %.1f KiB", kind.c_str(), bytes.get<uint64_t>() / 1024.0);
+    std::printf("\n");
+    if (!info["bytes_by_frame"].empty()) {
+        uint64_t total = 0, largest = 0;
+        for (const ordered_json& f : info["bytes_by_frame"]) {
+            total += f["stored_bytes"].get<uint64_t>();
+            largest = std::max(largest, f["stored_bytes"].get<uint64_t>());
+        }
+        std::printf("  stored bytes per frame: mean %.1f KiB, largest %.1f KiB (%zu frames)\n",
+                    total / 1024.0 / info["bytes_by_frame"].size(), largest / 1024.0, info["bytes_by_frame"].size());
+    }
     std::printf("  (--json prints everything, including provenance, camera, lights and the default look)\n");
 }
 

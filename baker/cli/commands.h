@@ -14,5 +14,6 @@ void registerRenderCommand(CLI::App& app);
 void registerCompareCommand(CLI::App& app);
 void registerAnimateCommand(CLI::App& app);
 void registerBenchCommand(CLI::App& app);
+void registerRepackCommand(CLI::App& app);
 
 }  // namespace firelook::cli

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
     firelook::cli::registerCompareCommand(app);
     firelook::cli::registerAnimateCommand(app);
     firelook::cli::registerBenchCommand(app);
+    firelook::cli::registerRepackCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

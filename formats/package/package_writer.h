@@ -19,7 +19,8 @@ struct WriterOptions {
 
 // Writes a package one section at a time. Sections stream to a temporary file next to the
 // destination, so memory holds one (compressed) section and the index, never the whole package.
-// commit() writes the index and header, fsyncs and renames over the destination atomically:
+// commit() writes the index and header, then fsyncs and renames over the destination atomically
+// (common/atomic_file.h):
 // readers see either the old file or the complete new one. Destroyed without commit (an exception,
 // unwinding after Ctrl-C), the writer deletes its temporary file and leaves the destination alone.
 // A process killed outright leaves the temporary, named ".<name>.<pid>-<n>.tmp" beside it.

@@ -14,6 +14,8 @@ namespace {
 
 openvdb::FloatGrid::Ptr readFloatGrid(openvdb::io::File& file, const std::string& name,
                                       const std::filesystem::path& path) {
+    // The type from the metadata first: the structure check walks float trees only.
+    requireFloatGrid(*file.readGridMetadata(name), path);
     const openvdb::GridBase::Ptr grid = file.readGrid(name);
     requireFloatGrid(*grid, path);
     return openvdb::gridPtrCast<openvdb::FloatGrid>(grid);

@@ -2,6 +2,7 @@
 
 #include <mutex>
 
+#include "vdb/file_structure.h"
 #include "vdb/vdb_error.h"
 
 namespace firelook::vdb {
@@ -9,6 +10,8 @@ namespace firelook::vdb {
 std::unique_ptr<openvdb::io::File> openVdbFile(const std::filesystem::path& path) {
     static std::once_flag initialized;
     std::call_once(initialized, [] { openvdb::initialize(); });
+    // OpenVDB 10 trusts the sizes in the file (file_structure.h): check them all first.
+    checkFileStructure(path);
     auto file = std::make_unique<openvdb::io::File>(path.string());
     try {
         // Delayed loading would keep the file mapped and load leaves on first touch; every frame

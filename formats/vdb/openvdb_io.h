@@ -14,7 +14,7 @@
 namespace firelook::vdb {
 
 // Opens a VDB file for reading (OpenVDB initialised once, thread-safely). Throws VdbError naming
-// the file when it cannot be opened or is not a VDB file.
+// the file when it cannot be opened, is not a VDB file or fails checkFileStructure (file_structure.h).
 std::unique_ptr<openvdb::io::File> openVdbFile(const std::filesystem::path& path);
 
 std::vector<std::string> gridNamesIn(const openvdb::io::File& file);

@@ -14,17 +14,22 @@
 #include <type_traits>
 #include <vector>
 
-#include "look/emission_fit.h"
+#include "common/error.h"
 #include "look/look.h"
-#include "package/error.h"
+#include "result_table.h"
+#include "struct_rule.h"
+#include "world/handle_pool.h"
 #include "world/world.h"
 
 namespace {
 
 using namespace firelook;
+using plugin::FirstSize;
 
 // ---- errors -----------------------------------------------------------------
 
+// A failure the plugin itself detects, already in the C API's terms. The runtime's failures arrive as
+// firelook::Error and go through plugin::toResult (result_table.h).
 struct ApiError {
     fl_result code;
     std::string message;
@@ -36,54 +41,10 @@ thread_local std::string t_last_error;
 
 // ---- the library context ---------------------------------------------------
 
-// Index + generation pool: id = generation << 20 | (index + 1), generation 1..4095.
-template <typename T>
-class Pool {
-  public:
-    uint32_t add(T value) {
-        uint32_t index;
-        if (!free_.empty()) {
-            index = free_.back();
-            free_.pop_back();
-        } else {
-            if (items_.size() >= kMask) fail(FL_ERROR_LIMIT, "too many objects of one kind");
-            index = static_cast<uint32_t>(items_.size());
-            items_.emplace_back();
-            generation_.push_back(1);
-        }
-        items_[index] = std::move(value);
-        live_.resize(items_.size(), 0);
-        live_[index] = 1;
-        return (static_cast<uint32_t>(generation_[index]) << 20) | (index + 1);
-    }
-    T* find(uint32_t id) {
-        const uint32_t low = id & kMask;
-        if (low == 0) return nullptr;
-        const uint32_t index = low - 1;
-        if (index >= items_.size() || !live_[index] || generation_[index] != (id >> 20)) return nullptr;
-        return &items_[index];
-    }
-    T take(uint32_t id) {  // caller checked find(id)
-        const uint32_t index = (id & kMask) - 1;
-        T value = std::move(items_[index]);
-        items_[index] = T{};
-        live_[index] = 0;
-        uint16_t g = static_cast<uint16_t>((generation_[index] + 1) & 0xFFF);
-        generation_[index] = g == 0 ? 1 : g;
-        free_.push_back(index);
-        return value;
-    }
-    void clear() {  // keeps the generations so that old handles stay stale
-        for (uint32_t i = 0; i < items_.size(); ++i)
-            if (live_[i]) take((static_cast<uint32_t>(generation_[i]) << 20) | (i + 1));
-    }
-
-  private:
-    static constexpr uint32_t kMask = (1u << 20) - 1;
-    std::vector<T> items_;
-    std::vector<uint16_t> generation_;
-    std::vector<uint8_t> live_;
-    std::vector<uint32_t> free_;
+// An instance handle of the C API: which world made it, and the world's own handle for it.
+struct InstanceRecord {
+    uint32_t world = 0;
+    runtime::InstanceHandle handle = 0;
 };
 
 struct Context {
@@ -93,9 +54,11 @@ struct Context {
     fl_log_fn log = nullptr;
     void* log_user = nullptr;
     int32_t log_level = 0;
-    Pool<std::shared_ptr<const runtime::Package>> packages;
-    Pool<std::shared_ptr<const Look>> looks;
-    Pool<std::shared_ptr<runtime::World>> worlds;
+    uint32_t keyframe_stride = sizeof(fl_keyframe);  // the caller's sizeof_keyframe
+    runtime::HandlePool<std::shared_ptr<const runtime::Package>> packages{runtime::HandleKind::Package};
+    runtime::HandlePool<std::shared_ptr<const Look>> looks{runtime::HandleKind::Look};
+    runtime::HandlePool<std::shared_ptr<runtime::World>> worlds{runtime::HandleKind::World};
+    runtime::HandlePool<InstanceRecord> instances{runtime::HandleKind::Instance};
 };
 
 Context& context() {
@@ -106,19 +69,6 @@ Context& context() {
 void logMessage(int32_t level, const std::string& message) {
     Context& c = context();
     if (c.log && level >= c.log_level) c.log(level, message.c_str(), c.log_user);
-}
-
-fl_result packageErrorCode(package::ErrorCode code) {
-    switch (code) {
-        case package::ErrorCode::IoError: return FL_ERROR_IO;
-        case package::ErrorCode::NotAPackage: return FL_ERROR_NOT_A_PACKAGE;
-        case package::ErrorCode::Truncated:
-        case package::ErrorCode::Corrupt: return FL_ERROR_CORRUPT;
-        case package::ErrorCode::NewerMajorVersion:
-        case package::ErrorCode::UnsupportedFeature: return FL_ERROR_UNSUPPORTED;
-        case package::ErrorCode::OutOfMemory: return FL_ERROR_OUT_OF_MEMORY;
-        default: return FL_ERROR_INTERNAL;
-    }
 }
 
 template <typename F>
@@ -132,26 +82,15 @@ fl_result guarded(const char* function, F&& body) noexcept {
     } catch (const ApiError& e) {
         code = e.code;
         message = e.message;
-    } catch (const runtime::InvalidHandle& e) {
-        code = FL_ERROR_INVALID_HANDLE;
-        message = e.what();
-    } catch (const LookError& e) {
-        code = FL_ERROR_LOOK;
-        message = e.what();
-    } catch (const EmissionFitError& e) {
-        code = FL_ERROR_LOOK;
-        message = e.what();
-    } catch (const package::PackageError& e) {
-        code = packageErrorCode(e.code());
+    } catch (const Error& e) {
+        code = plugin::toResult(e.code());
         message = e.what();
     } catch (const std::bad_alloc&) {
         code = FL_ERROR_OUT_OF_MEMORY;
         message = "out of memory";
     } catch (const std::invalid_argument& e) {
+        // Uncoded: the world's checks of what the plugin passed on from the caller.
         code = FL_ERROR_INVALID_ARGUMENT;
-        message = e.what();
-    } catch (const std::runtime_error& e) {
-        code = FL_ERROR_CORRUPT;  // inconsistent package content (BasisPackage checks)
         message = e.what();
     } catch (const std::exception& e) {
         code = FL_ERROR_INTERNAL;
@@ -173,19 +112,28 @@ void requireInit(Context& c) {
     if (!c.initialized) fail(FL_ERROR_NOT_INITIALIZED, "fl_init has not been called (or failed)");
 }
 
+// Null and struct_size checks of a caller's struct (the struct rule, struct_rule.h).
 template <typename T>
-void checkIn(const T* p, const char* what) {
+void checkStruct(const T* p, const char* what) {
     if (!p) fail(FL_ERROR_INVALID_ARGUMENT, std::string(what) + " is null");
-    // Version 1 is the first published layout: every field must be there.
-    if (p->struct_size < sizeof(T))
-        fail(FL_ERROR_STRUCT_SIZE, std::string(what) + "->struct_size is " + std::to_string(p->struct_size) +
-                                       ", expected at least " + std::to_string(sizeof(T)) +
+    const uint32_t size = plugin::callerStructSize(p);
+    if (size < FirstSize<T>::value)
+        fail(FL_ERROR_STRUCT_SIZE, std::string(what) + "->struct_size is " + std::to_string(size) +
+                                       ", expected at least " + std::to_string(FirstSize<T>::value) +
                                        " (initialise it with the *_defaults() function)");
 }
 
+// The library's copy of a caller's input struct.
 template <typename T>
-void checkOut(T* p, const char* what) {
-    checkIn(p, what);
+T readIn(const T* p, const char* what) {
+    checkStruct(p, what);
+    return plugin::copyIn<T>(p, plugin::callerStructSize(p));
+}
+
+// Writes an output struct as far as the caller's struct_size reaches (checkStruct first).
+template <typename T>
+void writeOut(T* p, const T& value) {
+    plugin::copyOut<T>(p, plugin::callerStructSize(p), value);
 }
 
 template <typename T>
@@ -193,31 +141,44 @@ void checkPointer(T* p, const char* what) {
     if (!p) fail(FL_ERROR_INVALID_ARGUMENT, std::string(what) + " is null");
 }
 
+// The pools' get() throws runtime::InvalidHandle (FL_ERROR_INVALID_HANDLE) saying why.
 std::shared_ptr<const runtime::Package> findPackage(fl_package h) {
     Context& c = context();
     std::lock_guard lock(c.mutex);
     requireInit(c);
-    auto* p = c.packages.find(h.id);
-    if (!p) fail(FL_ERROR_INVALID_HANDLE, "invalid or released package handle " + std::to_string(h.id));
-    return *p;
+    return c.packages.get(h.id);
 }
 
 std::shared_ptr<const Look> findLook(fl_look h) {
     Context& c = context();
     std::lock_guard lock(c.mutex);
     requireInit(c);
-    auto* p = c.looks.find(h.id);
-    if (!p) fail(FL_ERROR_INVALID_HANDLE, "invalid or released look handle " + std::to_string(h.id));
-    return *p;
+    return c.looks.get(h.id);
 }
 
 runtime::World& findWorld(fl_world h) {
     Context& c = context();
     std::lock_guard lock(c.mutex);
     requireInit(c);
-    auto* p = c.worlds.find(h.id);
-    if (!p) fail(FL_ERROR_INVALID_HANDLE, "invalid or destroyed world handle " + std::to_string(h.id));
-    return **p;  // caller guarantees the world is not destroyed concurrently
+    return *c.worlds.get(h.id);  // caller guarantees the world is not destroyed concurrently
+}
+
+struct WorldInstance {
+    runtime::World& world;
+    runtime::InstanceHandle instance;
+};
+
+// The world and the world's handle of an instance; refuses an instance that world did not create.
+WorldInstance findInstance(fl_world w, fl_instance i) {
+    Context& c = context();
+    std::lock_guard lock(c.mutex);
+    requireInit(c);
+    runtime::World& world = *c.worlds.get(w.id);
+    const InstanceRecord& record = c.instances.get(i.id);
+    if (record.world != w.id)
+        throw runtime::InvalidHandle("invalid instance handle " + std::to_string(i.id) + ": it belongs to another world (" +
+                                     std::to_string(record.world) + "), not to world " + std::to_string(w.id));
+    return {world, record.handle};
 }
 
 void checkFinite(double v, const char* what) {
@@ -249,32 +210,16 @@ int slotOrFail(const runtime::Package& p, int32_t frame) {
     return slot;
 }
 
-runtime::InstanceHandle instanceHandle(fl_instance h) { return h.id; }
-
 }  // namespace
 
 extern "C" {
 
 FIRELOOK_API const char* fl_result_string(fl_result r) {
     switch (r) {
-        case FL_OK: return "FL_OK";
-        case FL_ERROR_INVALID_ARGUMENT: return "FL_ERROR_INVALID_ARGUMENT";
-        case FL_ERROR_INVALID_HANDLE: return "FL_ERROR_INVALID_HANDLE";
-        case FL_ERROR_STRUCT_SIZE: return "FL_ERROR_STRUCT_SIZE";
-        case FL_ERROR_VERSION_MISMATCH: return "FL_ERROR_VERSION_MISMATCH";
-        case FL_ERROR_NOT_INITIALIZED: return "FL_ERROR_NOT_INITIALIZED";
-        case FL_ERROR_ALREADY_INITIALIZED: return "FL_ERROR_ALREADY_INITIALIZED";
-        case FL_ERROR_IO: return "FL_ERROR_IO";
-        case FL_ERROR_NOT_A_PACKAGE: return "FL_ERROR_NOT_A_PACKAGE";
-        case FL_ERROR_CORRUPT: return "FL_ERROR_CORRUPT";
-        case FL_ERROR_UNSUPPORTED: return "FL_ERROR_UNSUPPORTED";
-        case FL_ERROR_LOOK: return "FL_ERROR_LOOK";
-        case FL_ERROR_BUFFER_TOO_SMALL: return "FL_ERROR_BUFFER_TOO_SMALL";
-        case FL_ERROR_OUT_OF_MEMORY: return "FL_ERROR_OUT_OF_MEMORY";
-        case FL_ERROR_NO_DATA: return "FL_ERROR_NO_DATA";
-        case FL_ERROR_NOT_FOUND: return "FL_ERROR_NOT_FOUND";
-        case FL_ERROR_LIMIT: return "FL_ERROR_LIMIT";
-        case FL_ERROR_INTERNAL: return "FL_ERROR_INTERNAL";
+#define FIRELOOK_RESULT_NAME(name, value) \
+    case name: return #name;
+        FIRELOOK_RESULTS(FIRELOOK_RESULT_NAME)
+#undef FIRELOOK_RESULT_NAME
         default: return "FL_ERROR_UNKNOWN";
     }
 }
@@ -283,42 +228,48 @@ FIRELOOK_API const char* fl_last_error(void) { return t_last_error.c_str(); }
 
 FIRELOOK_API uint32_t fl_version(void) { return FIRELOOK_HEADER_VERSION; }
 
-FIRELOOK_API fl_result fl_init(const fl_init_desc* desc) {
+FIRELOOK_API fl_result fl_init(const fl_init_desc* caller) {
     return guarded("fl_init", [&] {
-        if (!desc) fail(FL_ERROR_INVALID_ARGUMENT, "desc is null");
-        // Check the version before anything else: a mismatched header may lay the struct out differently.
-        const uint32_t major = desc->header_version / 10000, minor = desc->header_version / 100 % 100;
-        if (desc->struct_size < 2 * sizeof(uint32_t) || major != FIRELOOK_VERSION_MAJOR ||
-            minor > FIRELOOK_VERSION_MINOR)
+        if (!caller) fail(FL_ERROR_INVALID_ARGUMENT, "desc is null");
+        // The version before anything else: a mismatched header may lay the struct out differently.
+        const uint32_t size = plugin::callerStructSize(caller);
+        uint32_t version = 0;
+        if (size >= offsetof(fl_init_desc, header_version) + sizeof version)
+            std::memcpy(&version, reinterpret_cast<const char*>(caller) + offsetof(fl_init_desc, header_version),
+                        sizeof version);
+        if (version == 0 || version / 10000 != FIRELOOK_VERSION_MAJOR || version / 100 % 100 > FIRELOOK_VERSION_MINOR)
             fail(FL_ERROR_VERSION_MISMATCH,
-                 "the caller was compiled against FireLook header version " + std::to_string(desc->header_version) +
+                 "the caller was compiled against FireLook header version " + std::to_string(version) +
                      ", this library is " + std::to_string(FIRELOOK_HEADER_VERSION) +
                      " (same major and a minor no newer required)");
-        checkIn(desc, "desc");
+        const fl_init_desc desc = readIn(caller, "desc");
+        // The caller's struct sizes (IMGUI_CHECKVERSION): each at least its first published size.
         const struct {
-            uint32_t given, expected;
+            uint32_t given;
+            size_t first;
             const char* name;
-        } sizes[] = {{desc->sizeof_world_desc, sizeof(fl_world_desc), "fl_world_desc"},
-                     {desc->sizeof_instance_desc, sizeof(fl_instance_desc), "fl_instance_desc"},
-                     {desc->sizeof_playback_desc, sizeof(fl_playback_desc), "fl_playback_desc"},
-                     {desc->sizeof_outputs_desc, sizeof(fl_outputs_desc), "fl_outputs_desc"},
-                     {desc->sizeof_package_info, sizeof(fl_package_info), "fl_package_info"},
-                     {desc->sizeof_instance_state, sizeof(fl_instance_state), "fl_instance_state"},
-                     {desc->sizeof_keyframe, sizeof(fl_keyframe), "fl_keyframe"}};
+        } sizes[] = {{desc.sizeof_world_desc, FirstSize<fl_world_desc>::value, "fl_world_desc"},
+                     {desc.sizeof_instance_desc, FirstSize<fl_instance_desc>::value, "fl_instance_desc"},
+                     {desc.sizeof_playback_desc, FirstSize<fl_playback_desc>::value, "fl_playback_desc"},
+                     {desc.sizeof_outputs_desc, FirstSize<fl_outputs_desc>::value, "fl_outputs_desc"},
+                     {desc.sizeof_package_info, FirstSize<fl_package_info>::value, "fl_package_info"},
+                     {desc.sizeof_instance_state, FirstSize<fl_instance_state>::value, "fl_instance_state"},
+                     {desc.sizeof_keyframe, FirstSize<fl_keyframe>::value, "fl_keyframe"}};
         for (const auto& s : sizes)
-            if (s.given != s.expected)
+            if (s.given < s.first)
                 fail(FL_ERROR_VERSION_MISMATCH, std::string("sizeof(") + s.name + ") is " + std::to_string(s.given) +
-                                                    " in the caller and " + std::to_string(s.expected) +
-                                                    " in the library: header and library do not match");
-        if ((desc->allocator.alloc == nullptr) != (desc->allocator.free == nullptr))
+                                                    " in the caller, below its first published size " +
+                                                    std::to_string(s.first) + ": header and library do not match");
+        if ((desc.allocator.alloc == nullptr) != (desc.allocator.free == nullptr))
             fail(FL_ERROR_INVALID_ARGUMENT, "allocator: set both alloc and free, or neither");
         Context& c = context();
         std::lock_guard lock(c.mutex);
         if (c.initialized) fail(FL_ERROR_ALREADY_INITIALIZED, "fl_init called twice without fl_shutdown");
-        c.memory = {desc->allocator.alloc, desc->allocator.free, desc->allocator.user};
-        c.log = desc->log;
-        c.log_user = desc->log_user;
-        c.log_level = desc->log_level;
+        c.memory = {desc.allocator.alloc, desc.allocator.free, desc.allocator.user};
+        c.log = desc.log;
+        c.log_user = desc.log_user;
+        c.log_level = desc.log_level;
+        c.keyframe_stride = desc.sizeof_keyframe;
         c.initialized = true;
         logMessage(FL_LOG_INFO, "FireLook runtime " + std::to_string(FIRELOOK_HEADER_VERSION) + " initialised");
     });
@@ -329,7 +280,8 @@ FIRELOOK_API fl_result fl_shutdown(void) {
         Context& c = context();
         std::lock_guard lock(c.mutex);
         requireInit(c);
-        c.worlds.clear();  // worlds first: their instances hold packages
+        c.instances.clear();
+        c.worlds.clear();  // before the packages: their instances hold packages
         c.looks.clear();
         c.packages.clear();
         c.initialized = false;
@@ -369,19 +321,16 @@ FIRELOOK_API fl_result fl_package_release(fl_package h) {
         Context& c = context();
         std::lock_guard lock(c.mutex);
         requireInit(c);
-        if (!c.packages.find(h.id))
-            fail(FL_ERROR_INVALID_HANDLE, "invalid or released package handle " + std::to_string(h.id));
         doomed = c.packages.take(h.id);
     });
 }
 
 FIRELOOK_API fl_result fl_package_get_info(fl_package h, fl_package_info* out) {
     return guarded("fl_package_get_info", [&] {
-        checkOut(out, "out_info");
+        checkStruct(out, "out_info");
         const auto p = findPackage(h);
         const basis::BakeDescription& d = p->description();
         fl_package_info info = {};
-        info.struct_size = out->struct_size;
         info.width = d.width;
         info.height = d.height;
         info.frame_count = p->frameCount();
@@ -402,7 +351,7 @@ FIRELOOK_API fl_result fl_package_get_info(fl_package h, fl_package_info* out) {
         info.smoke_extinction_max = d.axes.smoke_extinction.back();
         info.flame_extinction_min = d.axes.flame_extinction.front();
         info.flame_extinction_max = d.axes.flame_extinction.back();
-        *out = info;
+        writeOut(out, info);
     });
 }
 
@@ -516,7 +465,6 @@ FIRELOOK_API fl_result fl_look_release(fl_look h) {
         Context& c = context();
         std::lock_guard lock(c.mutex);
         requireInit(c);
-        if (!c.looks.find(h.id)) fail(FL_ERROR_INVALID_HANDLE, "invalid or released look handle " + std::to_string(h.id));
         doomed = c.looks.take(h.id);
     });
 }
@@ -533,8 +481,8 @@ FIRELOOK_API fl_result fl_world_create(const fl_world_desc* desc, fl_world* out)
         out->id = 0;
         runtime::WorldSettings settings;
         if (desc) {
-            checkIn(desc, "desc");
-            if (desc->frame_cache_bytes) settings.frame_cache_bytes = static_cast<size_t>(desc->frame_cache_bytes);
+            const fl_world_desc d = readIn(desc, "desc");
+            if (d.frame_cache_bytes) settings.frame_cache_bytes = static_cast<size_t>(d.frame_cache_bytes);
         }
         Context& c = context();
         std::lock_guard lock(c.mutex);
@@ -550,8 +498,8 @@ FIRELOOK_API fl_result fl_world_destroy(fl_world h) {
         Context& c = context();
         std::lock_guard lock(c.mutex);
         requireInit(c);
-        if (!c.worlds.find(h.id)) fail(FL_ERROR_INVALID_HANDLE, "invalid or destroyed world handle " + std::to_string(h.id));
         doomed = c.worlds.take(h.id);
+        c.instances.eraseIf([&](const InstanceRecord& r) { return r.world == h.id; });
     });
 }
 
@@ -573,76 +521,85 @@ FIRELOOK_API fl_result fl_instance_create(fl_world w, const fl_instance_desc* de
     return guarded("fl_instance_create", [&] {
         checkPointer(out, "out_instance");
         out->id = 0;
-        checkIn(desc, "desc");
+        const fl_instance_desc d = readIn(desc, "desc");
         runtime::World& world = findWorld(w);
-        auto package = findPackage(desc->package);
+        auto package = findPackage(d.package);
         std::shared_ptr<const Look> look;
-        if (desc->look.id != 0) look = findLook(desc->look);
+        if (d.look.id != 0) look = findLook(d.look);
         const runtime::InstanceHandle instance = world.create(std::move(package));
-        if (look) {
-            try {
-                world.setLook(instance, *look);
-            } catch (...) {
-                world.destroy(instance);
-                throw;
-            }
+        try {
+            if (look) world.setLook(instance, *look);
+            Context& c = context();
+            std::lock_guard lock(c.mutex);
+            out->id = c.instances.add({w.id, instance});
+        } catch (...) {
+            world.destroy(instance);
+            throw;
         }
-        out->id = instance;
     });
 }
 
 FIRELOOK_API fl_result fl_instance_destroy(fl_world w, fl_instance i) {
-    return guarded("fl_instance_destroy", [&] { findWorld(w).destroy(instanceHandle(i)); });
+    return guarded("fl_instance_destroy", [&] {
+        const WorldInstance wi = findInstance(w, i);
+        wi.world.destroy(wi.instance);
+        Context& c = context();
+        std::lock_guard lock(c.mutex);
+        c.instances.take(i.id);
+    });
 }
 
 FIRELOOK_API fl_result fl_instance_set_look(fl_world w, fl_instance i, fl_look l) {
     return guarded("fl_instance_set_look", [&] {
-        runtime::World& world = findWorld(w);
-        if (!world.valid(instanceHandle(i))) fail(FL_ERROR_INVALID_HANDLE, "stale or invalid instance handle");
-        world.setLook(instanceHandle(i), *findLook(l));
+        const WorldInstance wi = findInstance(w, i);
+        wi.world.setLook(wi.instance, *findLook(l));
     });
 }
 
 FIRELOOK_API fl_result fl_instance_set_keyframes(fl_world w, fl_instance i, const fl_keyframe* keys, uint32_t count) {
     return guarded("fl_instance_set_keyframes", [&] {
-        runtime::World& world = findWorld(w);
-        if (!world.valid(instanceHandle(i))) fail(FL_ERROR_INVALID_HANDLE, "stale or invalid instance handle");
+        const WorldInstance wi = findInstance(w, i);
         checkPointer(keys, "keys");
         if (count == 0) fail(FL_ERROR_INVALID_ARGUMENT, "count is 0: at least one key is required");
+        // The caller's fl_keyframe may be older or newer than ours: step by its size (fl_init's sizeof_keyframe).
+        const size_t stride = context().keyframe_stride;
+        const auto* bytes = reinterpret_cast<const unsigned char*>(keys);
         std::vector<std::pair<double, Look>> resolved;
         resolved.reserve(count);
         for (uint32_t k = 0; k < count; ++k) {
-            checkFinite(keys[k].frame, "keys[].frame");
-            resolved.emplace_back(keys[k].frame, *findLook(keys[k].look));
+            const fl_keyframe key = plugin::copyIn<fl_keyframe>(bytes + k * stride, stride);
+            checkFinite(key.frame, "keys[].frame");
+            resolved.emplace_back(key.frame, *findLook(key.look));
         }
-        world.setKeyframes(instanceHandle(i), resolved);
+        wi.world.setKeyframes(wi.instance, resolved);
     });
 }
 
 FIRELOOK_API fl_result fl_instance_set_playback(fl_world w, fl_instance i, const fl_playback_desc* desc) {
     return guarded("fl_instance_set_playback", [&] {
-        checkIn(desc, "desc");
-        checkFinite(desc->time, "desc->time");
-        checkFinite(desc->rate, "desc->rate");
+        const fl_playback_desc d = readIn(desc, "desc");
+        checkFinite(d.time, "desc->time");
+        checkFinite(d.rate, "desc->rate");
         runtime::PlaybackSettings pb;
-        pb.time = desc->time;
-        pb.rate = desc->rate != 0.0 ? desc->rate : 24.0;
-        pb.playing = desc->paused == 0;
-        pb.loop = desc->no_loop == 0;
-        if (desc->use_frame_range) {
-            pb.first_frame = desc->first_frame;
-            pb.last_frame = desc->last_frame;
+        pb.time = d.time;
+        pb.rate = d.rate != 0.0 ? d.rate : 24.0;
+        pb.playing = d.paused == 0;
+        pb.loop = d.no_loop == 0;
+        if (d.use_frame_range) {
+            pb.first_frame = d.first_frame;
+            pb.last_frame = d.last_frame;
         }
-        findWorld(w).setPlayback(instanceHandle(i), pb);
+        const WorldInstance wi = findInstance(w, i);
+        wi.world.setPlayback(wi.instance, pb);
     });
 }
 
 FIRELOOK_API fl_result fl_instance_set_outputs(fl_world w, fl_instance i, const fl_outputs_desc* desc) {
     return guarded("fl_instance_set_outputs", [&] {
-        checkIn(desc, "desc");
+        const fl_outputs_desc d = readIn(desc, "desc");
         runtime::OutputSettings out;
-        out.image = desc->image != 0;
-        out.lens_flare = desc->lens_flare != 0;
+        out.image = d.image != 0;
+        out.lens_flare = d.lens_flare != 0;
         runtime::LensFlareSettings& f = out.flare;
         const runtime::LensFlareSettings defaults;
         // 0 = default, negative = off (gains and counts); every value must be finite.
@@ -655,28 +612,28 @@ FIRELOOK_API fl_result fl_instance_set_outputs(fl_world w, fl_instance i, const 
             }
             return given;
         };
-        f.threshold = value(desc->flare_threshold, defaults.threshold, false, "flare_threshold");
-        f.intensity = value(desc->flare_intensity, defaults.intensity, true, "flare_intensity");
-        f.ghost_count = desc->ghost_count == 0 ? defaults.ghost_count : std::clamp(desc->ghost_count, 0, 8);
-        f.ghost_spacing = value(desc->ghost_spacing, defaults.ghost_spacing, false, "ghost_spacing");
-        f.halo_radius = value(desc->halo_radius, defaults.halo_radius, false, "halo_radius");
-        f.halo_width = value(desc->halo_width, defaults.halo_width, false, "halo_width");
-        f.halo_intensity = value(desc->halo_intensity, defaults.halo_intensity, true, "halo_intensity");
-        f.streak_length = value(desc->streak_length, defaults.streak_length, false, "streak_length");
-        f.streak_intensity = value(desc->streak_intensity, defaults.streak_intensity, true, "streak_intensity");
-        f.streaks = desc->streaks == 0 ? defaults.streaks : std::clamp(desc->streaks, 0, 2);
-        findWorld(w).setOutputs(instanceHandle(i), out);
+        f.threshold = value(d.flare_threshold, defaults.threshold, false, "flare_threshold");
+        f.intensity = value(d.flare_intensity, defaults.intensity, true, "flare_intensity");
+        f.ghost_count = d.ghost_count == 0 ? defaults.ghost_count : std::clamp(d.ghost_count, 0, 8);
+        f.ghost_spacing = value(d.ghost_spacing, defaults.ghost_spacing, false, "ghost_spacing");
+        f.halo_radius = value(d.halo_radius, defaults.halo_radius, false, "halo_radius");
+        f.halo_width = value(d.halo_width, defaults.halo_width, false, "halo_width");
+        f.halo_intensity = value(d.halo_intensity, defaults.halo_intensity, true, "halo_intensity");
+        f.streak_length = value(d.streak_length, defaults.streak_length, false, "streak_length");
+        f.streak_intensity = value(d.streak_intensity, defaults.streak_intensity, true, "streak_intensity");
+        f.streaks = d.streaks == 0 ? defaults.streaks : std::clamp(d.streaks, 0, 2);
+        const WorldInstance wi = findInstance(w, i);
+        wi.world.setOutputs(wi.instance, out);
     });
 }
 
 FIRELOOK_API fl_result fl_instance_get_state(fl_world w, fl_instance i, fl_instance_state* out) {
     return guarded("fl_instance_get_state", [&] {
-        checkOut(out, "out_state");
-        runtime::World& world = findWorld(w);
-        const runtime::InstanceState s = world.state(instanceHandle(i));
-        const basis::BakeDescription& d = world.package(instanceHandle(i)).description();
+        checkStruct(out, "out_state");
+        const WorldInstance wi = findInstance(w, i);
+        const runtime::InstanceState s = wi.world.state(wi.instance);
+        const basis::BakeDescription& d = wi.world.package(wi.instance).description();
         fl_instance_state r = {};
-        r.struct_size = out->struct_size;
         r.updated = s.updated ? 1 : 0;
         r.frame = s.frame;
         r.rank = s.rank;
@@ -701,14 +658,15 @@ FIRELOOK_API fl_result fl_instance_get_state(fl_world w, fl_instance i, fl_insta
             r.alpha_layer_upper = upper;
             r.alpha_layer_t = static_cast<float>((tc - t[upper - 1]) / (t[upper] - t[upper - 1]));
         }
-        *out = r;
+        writeOut(out, r);
     });
 }
 
 FIRELOOK_API fl_result fl_instance_get_coefficients(fl_world w, fl_instance i, float* z, size_t capacity,
                                                     int32_t* out_rank) {
     return guarded("fl_instance_get_coefficients", [&] {
-        const runtime::InstanceState s = findWorld(w).state(instanceHandle(i));
+        const WorldInstance wi = findInstance(w, i);
+        const runtime::InstanceState s = wi.world.state(wi.instance);
         if (out_rank) *out_rank = s.rank;
         if (capacity == 0 && !z) return;
         checkPointer(z, "z");
@@ -723,13 +681,13 @@ namespace {
 fl_result copyImage(const char* function, fl_world w, fl_instance i, float* rgba, size_t capacity, bool flare) {
     return guarded(function, [&] {
         checkPointer(rgba, "rgba");
-        runtime::World& world = findWorld(w);
-        const runtime::InstanceState s = world.state(instanceHandle(i));
+        const WorldInstance wi = findInstance(w, i);
+        const runtime::InstanceState s = wi.world.state(wi.instance);
         const float* src = flare ? s.flare : s.image;
         if (!src)
             fail(FL_ERROR_NO_DATA, flare ? "the lens flare output is off or no update ran since it was turned on"
                                          : "the image output is off or no update ran since it was turned on");
-        const size_t needed = static_cast<size_t>(world.package(instanceHandle(i)).description().pixelCount()) * 4;
+        const size_t needed = static_cast<size_t>(wi.world.package(wi.instance).description().pixelCount()) * 4;
         checkCapacity(capacity, needed, "floats");
         std::copy(src, src + needed, rgba);
     });

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "basis/bake_description.h"
+#include "basis/frame_codec.h"
 #include "basis/frame_factors.h"
 #include "package/package_reader.h"
 #include "package/package_writer.h"
@@ -17,8 +18,21 @@ inline constexpr uint32_t kSectionU = package::makeFourCC('U', 'F', 'A', 'C');  
 inline constexpr uint32_t kSectionSVt = package::makeFourCC('S', 'V', 'T', 'F');        // S V^T, float, per frame
 inline constexpr uint32_t kSectionDepths = package::makeFourCC('O', 'D', 'E', 'P');     // optical depths, per frame
 
-// Adds the three sections of one frame.
-void writeFrameFactors(package::PackageWriter& writer, const FrameFactors& factors);
+// The basis layout this code writes (META "version"): 2 = the frame codec (frame_codec.h).
+// Layout 1 (U and depths as IEEE half, S V^T as float32) is still read.
+inline constexpr int kBasisLayoutVersion = 2;
+
+// What storing one frame chose and cost.
+struct StoredFrame {
+    double u_error = 0.0, svt_error = 0.0, alpha_bound = 0.0;  // see EncodedFrame
+    size_t detailed_pixels = 0;
+    uint64_t u_bytes = 0, svt_bytes = 0, depth_bytes = 0;  // in the file, after zstd
+    uint64_t bytes() const { return u_bytes + svt_bytes + depth_bytes; }
+};
+
+// Encodes one frame (frame_codec.h) and adds its three sections.
+StoredFrame writeFrameFactors(package::PackageWriter& writer, const BakeDescription& description,
+                              const FrameFactors& factors, const FrameCodecSettings& settings = {});
 
 // The META document: {"format": "firelook-basis", "bake": <description>, ...extra}.
 // `extra_json` is a JSON object whose members are added beside "bake" (provenance, errors).
@@ -33,16 +47,19 @@ public:
     const std::string& metadataJson() const { return metadata_; }
     const std::filesystem::path& file() const { return reader_.file(); }
     const package::PackageReader& reader() const { return reader_; }
+    int layoutVersion() const { return layout_version_; }
     // Decompresses and validates one frame (sizes against the description).
     FrameFactors loadFrame(int frame) const;
 
 private:
-    BasisPackage(package::PackageReader reader, BakeDescription description, std::string metadata)
-        : reader_(std::move(reader)), description_(std::move(description)), metadata_(std::move(metadata)) {}
+    BasisPackage(package::PackageReader reader, BakeDescription description, std::string metadata, int layout)
+        : reader_(std::move(reader)), description_(std::move(description)), metadata_(std::move(metadata)),
+          layout_version_(layout) {}
 
     package::PackageReader reader_;
     BakeDescription description_;
     std::string metadata_;
+    int layout_version_ = kBasisLayoutVersion;
 };
 
 }  // namespace firelook::basis

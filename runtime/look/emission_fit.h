@@ -8,13 +8,15 @@
 #include <string>
 #include <vector>
 
+#include "common/error.h"
 #include "look/look_model.h"
 
 namespace firelook {
 
-class EmissionFitError : public std::runtime_error {
+// Code ErrorCode::Look: per-bin emissivity that cannot be fitted is a bad look.
+class EmissionFitError : public Error {
   public:
-    using std::runtime_error::runtime_error;
+    explicit EmissionFitError(const std::string& message) : Error(ErrorCode::Look, message) {}
 };
 
 // Coefficients (one per bin) such that L_e(T_j) ~= e_j at every bin centre and

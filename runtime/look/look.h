@@ -15,14 +15,15 @@
 #include <variant>
 #include <vector>
 
+#include "common/error.h"
 #include "look/look_model.h"
 
 namespace firelook {
 
-// Any problem with a look; the message names the file (or look) and the key.
-class LookError : public std::runtime_error {
+// Any problem with a look; the message names the file (or look) and the key. Code ErrorCode::Look.
+class LookError : public Error {
   public:
-    using std::runtime_error::runtime_error;
+    explicit LookError(const std::string& message) : Error(ErrorCode::Look, message) {}
 };
 
 // {"bins": [[r,g,b], ...]}: one emissivity per temperature bin.

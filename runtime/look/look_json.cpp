@@ -6,6 +6,7 @@
 #include <string>
 #include <system_error>
 
+#include "common/atomic_file.h"
 #include "look/detail/look_error.h"
 #include "look/look.h"
 
@@ -203,26 +204,15 @@ std::string lookToJson(const Look& look) {
 }
 
 void saveLook(const std::filesystem::path& path, const Look& look) {
-    const std::string text = lookToJson(look);
-    std::filesystem::path temporary = path;
-    temporary += ".tmp";
-    {
-        std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-        if (file) file.write(text.data(), static_cast<std::streamsize>(text.size()));
-        file.close();
-        if (!file) {
-            std::error_code ignored;
-            std::filesystem::remove(temporary, ignored);
-            throwLookError(path.string(), "",
-                           "cannot write the look file (via " + temporary.filename().string() + ")");
-        }
-    }
-    std::error_code error;
-    std::filesystem::rename(temporary, path, error);
-    if (error) {
-        std::error_code ignored;
-        std::filesystem::remove(temporary, ignored);
-        throwLookError(path.string(), "", "cannot replace the look file: " + error.message());
+    try {
+        writeFileAtomically(path, lookToJson(look));
+    } catch (const LookError&) {
+        throw;
+    } catch (const Error& error) {
+        // The message already names the file: "<path>: cannot ...".
+        std::string problem = error.what();
+        if (problem.starts_with(path.string() + ": ")) problem.erase(0, path.string().size() + 2);
+        throwLookError(path.string(), "", "cannot write the look file: " + problem);
     }
 }
 

@@ -1,11 +1,31 @@
 #include "world/package.h"
 
 #include <algorithm>
+#include <new>
 #include <stdexcept>
 
+#include "common/error.h"
 #include "look/look.h"
 
 namespace firelook::runtime {
+namespace {
+
+// The basis layer reports bad content with plain std exceptions; everything it reads comes from the
+// file, so those become Corrupt here. Coded errors and out-of-memory pass through unchanged.
+template <typename F>
+auto corruptOnFailure(F&& read) {
+    try {
+        return read();
+    } catch (const Error&) {
+        throw;
+    } catch (const std::bad_alloc&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw Error(ErrorCode::Corrupt, e.what());
+    }
+}
+
+}  // namespace
 
 Package::Package(basis::BasisPackage package) : package_(std::move(package)), name_(package_.file().string()) {
     std::vector<basis::FrameRecord> records = package_.description().frames;
@@ -19,20 +39,24 @@ Package::Package(basis::BasisPackage package) : package_(std::move(package)), na
 }
 
 std::shared_ptr<const Package> Package::open(const std::filesystem::path& file) {
-    std::shared_ptr<Package> p(new Package(basis::BasisPackage::open(file)));
+    std::shared_ptr<Package> p(new Package(corruptOnFailure([&] { return basis::BasisPackage::open(file); })));
     const basis::BakeDescription& d = p->description();
-    if (p->frame_numbers_.empty()) throw std::runtime_error(p->name_ + ": the package has no baked frames");
-    if (d.width <= 0 || d.height <= 0) throw std::runtime_error(p->name_ + ": the package's image size is empty");
+    const auto corrupt = [&](const std::string& problem) { throw Error(ErrorCode::Corrupt, p->name_ + ": " + problem); };
+    if (p->frame_numbers_.empty()) corrupt("the package has no baked frames");
+    if (d.width <= 0 || d.height <= 0) corrupt("the package's image size is empty");
     for (size_t i = 1; i < p->frame_numbers_.size(); ++i)
         if (p->frame_numbers_[i] == p->frame_numbers_[i - 1])
-            throw std::runtime_error(p->name_ + ": frame " + std::to_string(p->frame_numbers_[i]) +
-                                     " is listed twice");
+            corrupt("frame " + std::to_string(p->frame_numbers_[i]) + " is listed twice");
     for (int r : p->frame_ranks_)
-        if (r < 0) throw std::runtime_error(p->name_ + ": a frame has a negative rank");
+        if (r < 0) corrupt("a frame has a negative rank");
     // The default look must be usable as is (it is every instance's initial look).
     const Look look = parseLook(d.default_look_json, p->name_ + " (default look)");
     makeLookModel(look, d.bins, d.rbf_width, d.light_directions);
     return p;
+}
+
+basis::FrameFactors Package::loadSlot(int slot) const {
+    return corruptOnFailure([&] { return package_.loadFrame(frame_numbers_[slot]); });
 }
 
 int Package::slotAtOrBelow(double frame_number) const {

@@ -15,9 +15,10 @@ namespace firelook::runtime {
 
 class Package {
   public:
-    // Throws package::PackageError / std::runtime_error naming the file. Also
-    // checks what the runtime relies on: at least one frame, a non-empty image,
-    // the default look parses against the package.
+    // Throws firelook::Error naming the file: package::PackageError from the
+    // reader, LookError for a default look that does not fit, and Corrupt for
+    // anything else wrong with the content (the basis layer's checks, and what
+    // the runtime relies on: at least one frame, a non-empty image).
     static std::shared_ptr<const Package> open(const std::filesystem::path& file);
 
     const basis::BakeDescription& description() const { return package_.description(); }
@@ -36,8 +37,9 @@ class Package {
     // Slot of exactly this frame number, or -1.
     int slotOf(int frame_number) const;
 
-    // Decompresses one frame (by slot). Allocates; not for the hot path.
-    basis::FrameFactors loadSlot(int slot) const { return package_.loadFrame(frame_numbers_[slot]); }
+    // Decompresses one frame (by slot). Allocates; not for the hot path. Throws
+    // firelook::Error (a section of the wrong shape is Corrupt).
+    basis::FrameFactors loadSlot(int slot) const;
 
   private:
     explicit Package(basis::BasisPackage package);

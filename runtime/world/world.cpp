@@ -9,15 +9,6 @@
 namespace firelook::runtime {
 namespace {
 
-constexpr uint32_t kSlotBits = 20;
-constexpr uint32_t kSlotMask = (1u << kSlotBits) - 1;
-constexpr uint32_t kMaxSlots = kSlotMask;  // slot + 1 must fit in the low bits
-constexpr uint16_t kGenerationMask = 0xFFF;
-
-InstanceHandle makeHandle(uint32_t slot, uint16_t generation) {
-    return (static_cast<uint32_t>(generation) << kSlotBits) | (slot + 1);
-}
-
 // Frame range of an instance, clamped to the package's baked frames.
 std::pair<int, int> frameRange(const Package& p, const PlaybackSettings& pb) {
     const int first_baked = p.frameNumber(0), last_baked = p.frameNumber(p.frameCount() - 1);
@@ -42,21 +33,9 @@ World::World(WorldSettings settings)
 
 World::~World() = default;
 
-int World::denseIndex(InstanceHandle h) const {
-    const uint32_t low = h & kSlotMask;
-    if (h == 0 || low == 0) throw InvalidHandle("invalid instance handle (0)");
-    const uint32_t slot = low - 1;
-    if (slot >= generation_.size() || slot_to_dense_[slot] < 0 || generation_[slot] != (h >> kSlotBits))
-        throw InvalidHandle("stale or unknown instance handle " + std::to_string(h));
-    return slot_to_dense_[slot];
-}
+int World::denseIndex(InstanceHandle h) const { return handles_.get(h); }
 
-bool World::valid(InstanceHandle h) const {
-    const uint32_t low = h & kSlotMask;
-    if (low == 0) return false;
-    const uint32_t slot = low - 1;
-    return slot < generation_.size() && slot_to_dense_[slot] >= 0 && generation_[slot] == (h >> kSlotBits);
-}
+bool World::valid(InstanceHandle h) const { return handles_.find(h) != nullptr; }
 
 int World::acquirePackage(std::shared_ptr<const Package> package) {
     for (size_t i = 0; i < packages_.size(); ++i)
@@ -94,7 +73,7 @@ void World::ensureStrides(const Package& p) {
     const int bins = p.description().bins.count;
     const int lights = static_cast<int>(p.description().light_directions.size());
     const int z = p.maxRank() * 3;
-    const size_t n = dense_to_slot_.size();
+    const size_t n = dense_to_handle_.size();
     auto relayout = [n](auto& v, int old_stride, int new_stride) {
         auto fresh = v;  // same allocator
         fresh.assign(n * new_stride, typename std::decay_t<decltype(v)>::value_type{});
@@ -122,25 +101,14 @@ InstanceHandle World::create(std::shared_ptr<const Package> package) {
     if (!package) throw std::invalid_argument("create: null package");
     const basis::BakeDescription& d = package->description();
     Keyframe key{0.0, resolveLook(parseLook(d.default_look_json, package->name() + " (default look)"), d)};
-    if (free_slots_.empty() && generation_.size() >= kMaxSlots)
-        throw std::invalid_argument("too many instances (the limit is " + std::to_string(kMaxSlots) + ")");
+    handles_.requireRoom();  // before anything changes
 
     ensureStrides(*package);  // may relayout; harmless if a later step throws
     const int pkg = acquirePackage(std::move(package));
     ++packages_[pkg].users;
 
-    uint32_t slot;
-    if (!free_slots_.empty()) {
-        slot = free_slots_.back();
-        free_slots_.pop_back();
-    } else {
-        slot = static_cast<uint32_t>(generation_.size());
-        generation_.push_back(1);
-        slot_to_dense_.push_back(-1);
-    }
-    const int dense = static_cast<int>(dense_to_slot_.size());
-    slot_to_dense_[slot] = dense;
-    dense_to_slot_.push_back(slot);
+    const InstanceHandle handle = handles_.add(static_cast<int32_t>(dense_to_handle_.size()));
+    dense_to_handle_.push_back(handle);
     package_index_.push_back(pkg);
     keys_.push_back({std::move(key)});
     playback_.push_back({});
@@ -154,13 +122,12 @@ InstanceHandle World::create(std::shared_ptr<const Package> package) {
     z_.resize(z_.size() + z_stride_);
     image_.emplace_back(HostAllocator<float>(&settings_.memory));
     flare_.emplace_back(HostAllocator<float>(&settings_.memory));
-    return makeHandle(slot, generation_[slot]);
+    return handle;
 }
 
 void World::destroy(InstanceHandle h) {
     const int dense = denseIndex(h);
-    const int last = static_cast<int>(dense_to_slot_.size()) - 1;
-    const uint32_t slot = dense_to_slot_[dense];
+    const int last = static_cast<int>(dense_to_handle_.size()) - 1;
     releasePackage(package_index_[dense]);
     auto move_last = [&](auto& v) {
         if (dense != last) v[dense] = std::move(v[last]);
@@ -185,15 +152,9 @@ void World::destroy(InstanceHandle h) {
     move_last_strided(rbf_, bins_stride_);
     move_last_strided(lights_, lights_stride_);
     move_last_strided(z_, z_stride_);
-    if (dense != last) {
-        dense_to_slot_[dense] = dense_to_slot_[last];
-        slot_to_dense_[dense_to_slot_[dense]] = dense;
-    }
-    dense_to_slot_.pop_back();
-    slot_to_dense_[slot] = -1;
-    uint16_t g = static_cast<uint16_t>((generation_[slot] + 1) & kGenerationMask);
-    generation_[slot] = g == 0 ? 1 : g;
-    free_slots_.push_back(slot);
+    move_last(dense_to_handle_);
+    if (dense != last) handles_.get(dense_to_handle_[dense]) = dense;
+    handles_.take(h);
 }
 
 void World::setLook(InstanceHandle h, const Look& look) {
@@ -292,7 +253,7 @@ void World::trimCache() {
 void World::update(double dt) {
     if (!std::isfinite(dt)) throw std::invalid_argument("update: dt must be finite");
     ++update_count_;
-    const size_t n = dense_to_slot_.size();
+    const size_t n = dense_to_handle_.size();
 
     // 1. Playback.
     for (size_t i = 0; i < n; ++i) {

@@ -34,7 +34,8 @@
 // threads.
 //
 // Errors: InvalidHandle for a stale or invalid handle, LookError for a look
-// that does not fit the package, std::invalid_argument for other bad input.
+// that does not fit the package, Error(Limit) past the instance limit,
+// std::invalid_argument for other bad input.
 // A call that throws leaves the world unchanged.
 #pragma once
 
@@ -47,6 +48,7 @@
 #include <vector>
 
 #include "look/look.h"
+#include "world/handle_pool.h"
 #include "world/host_memory.h"
 #include "world/lens_flare.h"
 #include "world/look_track.h"
@@ -54,14 +56,8 @@
 
 namespace firelook::runtime {
 
-class InvalidHandle : public std::invalid_argument {
-  public:
-    using std::invalid_argument::invalid_argument;
-};
-
-// 0 is never a valid handle. Low 20 bits: slot + 1; high 12 bits: generation
-// (1..4095, bumped when a slot is freed), so a destroyed instance's handle is
-// detected until its slot has been reused 4095 times.
+// From the world's HandlePool (handle_pool.h): 0 is never valid, a destroyed
+// instance's handle is detected (InvalidHandle).
 using InstanceHandle = uint32_t;
 
 struct WorldSettings {
@@ -114,7 +110,7 @@ class World {
     InstanceHandle create(std::shared_ptr<const Package> package);
     void destroy(InstanceHandle instance);
     bool valid(InstanceHandle instance) const;
-    size_t size() const { return dense_to_slot_.size(); }
+    size_t size() const { return dense_to_handle_.size(); }
 
     void setLook(InstanceHandle instance, const Look& look);  // one key: constant look
     // Keys (frame number, look); sorted here; must be non-empty.
@@ -158,11 +154,8 @@ class World {
     void trimCache();
 
     WorldSettings settings_;
-    // Handle pool.
-    std::vector<uint16_t> generation_;  // by slot
-    std::vector<int32_t> slot_to_dense_;  // -1 when free
-    std::vector<uint32_t> free_slots_;
-    std::vector<uint32_t> dense_to_slot_;
+    HandlePool<int32_t> handles_{HandleKind::Instance};  // handle -> dense index
+    std::vector<InstanceHandle> dense_to_handle_;
     std::vector<PackageEntry> packages_;
 
     // Components (dense). Strides grow with the packages in the world.

@@ -1,5 +1,5 @@
-// Whole-file text I/O for looks and keyframe files. Writes are atomic (temporary file beside the
-// target, then rename) so a crash never leaves a half-written look behind.
+// Whole-file text I/O for looks and keyframe files. Writes are atomic (common/atomic_file.h) so a
+// crash never leaves a half-written look behind.
 #pragma once
 
 #include <filesystem>

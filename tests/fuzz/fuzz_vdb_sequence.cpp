@@ -5,7 +5,8 @@
 // of the advertised size. Frames whose dense box would exceed 2^22 voxels are not densified: the
 // harness tests logic, not memory (toDense itself refuses more than 2^31).
 //
-// OpenVDB parses the file; a crash inside OpenVDB's own code is still a finding (see README.md).
+// OpenVDB parses only a file that passed checkFileStructure (vdb/file_structure.h): a crash inside
+// OpenVDB's own code is a gap in that check (see README.md).
 #include <cmath>
 #include <string>
 

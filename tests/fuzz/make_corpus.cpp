@@ -71,13 +71,12 @@ void writeBasisPackage(const fs::path& file, int frames, int rank, package::Code
     for (int frame = 1; frame <= frames; ++frame) {
         const basis::FrameFactors f = factors(d, frame, rank);
         if (codec == package::Codec::Zstd) {
-            basis::writeFrameFactors(writer, f);
+            basis::writeFrameFactors(writer, d, f);
         } else {
-            std::vector<float> depths = f.depth_density;
-            depths.insert(depths.end(), f.depth_sigmoid.begin(), f.depth_sigmoid.end());
-            writer.addSection(basis::kSectionU, frame, std::as_bytes(std::span(f.u_half)), codec);
-            writer.addSection(basis::kSectionSVt, frame, std::as_bytes(std::span(f.svt)), codec);
-            writer.addSection(basis::kSectionDepths, frame, std::as_bytes(std::span(depths)), codec);
+            const basis::EncodedFrame e = basis::encodeFrame(d, f, {});
+            writer.addSection(basis::kSectionU, frame, e.u, codec);
+            writer.addSection(basis::kSectionSVt, frame, e.svt, codec);
+            writer.addSection(basis::kSectionDepths, frame, e.depths, codec);
         }
     }
     writer.addMetadata(basis::makeMetadata(d, R"({"provenance": {"tool": "fuzz_make_corpus"}})"));

@@ -639,7 +639,7 @@ TEST_F(DamagedPackage, NewerVersionsAreRefusedOrReadAsDocumented) {
         {
             package::PackageWriter writer(file, package::WriterOptions{3, package::kFormatMinor + 1});
             for (const basis::FrameRecord& r : good.description().frames)
-                basis::writeFrameFactors(writer, good.loadFrame(r.frame));
+                basis::writeFrameFactors(writer, good.description(), good.loadFrame(r.frame));
             const std::string extra = "from the future";
             writer.addSection(package::makeFourCC('N', 'E', 'W', '1'), package::kNoFrame, std::as_bytes(std::span(extra)),
                               package::Codec::Zstd, required);
@@ -672,7 +672,7 @@ TEST_F(DamagedPackage, InterruptedBakeLeavesNothingAndItsTemporaryFileIsRefused)
     fs::path leftover = dir / "killed.firelook.tmp";
     {
         package::PackageWriter writer(dir / "killed.firelook");
-        basis::writeFrameFactors(writer, good.loadFrame(1));
+        basis::writeFrameFactors(writer, good.description(), good.loadFrame(1));
         fs::copy_file(writer.temporaryPath(), leftover);
     }  // destroyed without commit: as if the bake died here
     EXPECT_FALSE(fs::exists(dir / "killed.firelook"));

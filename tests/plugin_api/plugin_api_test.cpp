@@ -1,7 +1,9 @@
 // The C plugin API (plugin_api/include/firelook/firelook.h) through the shared library: version and
-// struct-size checks, stale/invalid handles, error codes and messages, images equal to the runtime's
-// renderLookImage (tolerance: 1e-5 of the peak radiance + 1e-5 relative, as in tests/world), the GPU
-// layouts, host allocator and log callbacks, dlopen, and the plain-C translation unit.
+// struct-size checks, the struct rule for older and newer callers, stale/invalid/wrong-kind/
+// wrong-world handles, error codes and messages, images equal to the runtime's renderLookImage
+// (tolerance: 1e-5 of the peak radiance + 1e-5 relative, as in tests/world), the GPU layouts, host
+// allocator and log callbacks, dlopen, and the plain-C translation unit. Worlds on two threads:
+// plugin_api_threads_test.cpp.
 #include "firelook/firelook.h"
 
 #include <dlfcn.h>
@@ -10,15 +12,21 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstddef>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <mutex>
 #include <glm/gtc/packing.hpp>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "../support/temp_dir.h"
 #include "basis/look_renderer.h"
+#include "common/error.h"
+#include "result_table.h"  // plugin_api/src: the error table and the struct rule, tested directly
+#include "struct_rule.h"
 #include "synthetic_package.h"
 
 extern "C" int firelook_c_smoke(const char* package_path);
@@ -123,6 +131,87 @@ TEST(PluginApiInit, ResultStrings) {
     for (fl_result r = FL_ERROR_INTERNAL; r <= FL_OK; ++r) EXPECT_STRNE(fl_result_string(r), "FL_ERROR_UNKNOWN") << r;
     EXPECT_STREQ(fl_result_string(12345), "FL_ERROR_UNKNOWN");
     EXPECT_STREQ(fl_result_string(FL_ERROR_INVALID_HANDLE), "FL_ERROR_INVALID_HANDLE");
+}
+
+// Every result in FIRELOOK_RESULTS is named after itself, values are distinct, and unknown values
+// (between, above and below the list) read FL_ERROR_UNKNOWN.
+TEST(PluginApiInit, EveryResultInTheListHasItsOwnName) {
+    struct Entry {
+        fl_result value;
+        const char* name;
+    };
+#define ENTRY(name, value) {name, #name},
+    const Entry entries[] = {FIRELOOK_RESULTS(ENTRY)};
+#undef ENTRY
+    std::set<fl_result> values;
+    for (const Entry& e : entries) {
+        EXPECT_STREQ(fl_result_string(e.value), e.name);
+        EXPECT_TRUE(values.insert(e.value).second) << e.name << " repeats a value";
+    }
+    EXPECT_EQ(values.size(), 18u);
+    for (fl_result unknown : {-18, 1, INT32_MIN, INT32_MAX, -1000})
+        EXPECT_STREQ(fl_result_string(unknown), "FL_ERROR_UNKNOWN") << unknown;
+}
+
+// The one table from the runtime's coded errors to fl_result: every code of the list maps to a named
+// error (never FL_OK), and the codes whose meaning the issue pinned map as promised.
+TEST(PluginApiInit, EveryErrorCodeMapsToANamedResult) {
+    using firelook::ErrorCode;
+    int count = 0;
+#define CHECK_CODE(name, value, text)                                                   \
+    {                                                                                   \
+        const fl_result r = firelook::plugin::toResult(ErrorCode::name);                \
+        EXPECT_LT(r, FL_OK) << #name;                                                   \
+        EXPECT_STRNE(fl_result_string(r), "FL_ERROR_UNKNOWN") << #name;                 \
+        EXPECT_STRNE(firelook::toString(ErrorCode::name), "unknown error") << #name;    \
+        ++count;                                                                        \
+    }
+    FIRELOOK_ERROR_CODES(CHECK_CODE)
+#undef CHECK_CODE
+    EXPECT_EQ(count, 13);
+    EXPECT_EQ(firelook::plugin::toResult(ErrorCode::Corrupt), FL_ERROR_CORRUPT);
+    EXPECT_EQ(firelook::plugin::toResult(ErrorCode::Truncated), FL_ERROR_CORRUPT);
+    EXPECT_EQ(firelook::plugin::toResult(ErrorCode::InvalidHandle), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(firelook::plugin::toResult(ErrorCode::Look), FL_ERROR_LOOK);
+    EXPECT_EQ(firelook::plugin::toResult(static_cast<ErrorCode>(999)), FL_ERROR_INTERNAL);
+}
+
+// fl_init's version rule as the header writes it: same major, a minor no newer, any patch; 0 (unset)
+// and a newer minor are refused. Struct sizes above the first published ones (a newer caller) are
+// accepted.
+TEST(PluginApiInit, OlderMinorNewerPatchAndLargerStructSizesAreAccepted) {
+    const uint32_t accepted[] = {FIRELOOK_HEADER_VERSION, FIRELOOK_HEADER_VERSION + 1,
+                                 FIRELOOK_VERSION_MAJOR * 10000u + 1u /* minor 0: older than ours (1) */};
+    static_assert(FIRELOOK_VERSION_MINOR >= 1, "the older-minor case needs a minor above 0");
+    for (uint32_t version : accepted) {
+        fl_init_desc desc = fl_init_desc_defaults();
+        desc.header_version = version;
+        ASSERT_EQ(fl_init(&desc), FL_OK) << version << ": " << fl_last_error();
+        EXPECT_EQ(fl_shutdown(), FL_OK);
+    }
+    fl_init_desc desc = fl_init_desc_defaults();
+    desc.header_version = 0;
+    EXPECT_EQ(fl_init(&desc), FL_ERROR_VERSION_MISMATCH);
+    desc = fl_init_desc_defaults();
+    desc.struct_size = 4;  // too small to hold header_version: refused as a mismatch, never read past
+    EXPECT_EQ(fl_init(&desc), FL_ERROR_VERSION_MISMATCH);
+
+    // A newer caller: every struct larger, fl_init_desc itself with extra zeroed fields.
+    struct NewerInitDesc {
+        fl_init_desc base;
+        uint64_t added[4];
+    } newer{};
+    newer.base = fl_init_desc_defaults();
+    newer.base.struct_size = sizeof newer;
+    newer.base.sizeof_world_desc += 16;
+    newer.base.sizeof_instance_desc += 16;
+    newer.base.sizeof_playback_desc += 16;
+    newer.base.sizeof_outputs_desc += 16;
+    newer.base.sizeof_package_info += 16;
+    newer.base.sizeof_instance_state += 16;
+    newer.base.sizeof_keyframe += 16;
+    ASSERT_EQ(fl_init(&newer.base), FL_OK) << fl_last_error();
+    EXPECT_EQ(fl_shutdown(), FL_OK);
 }
 
 // An instance of `package` drawing its CPU image, paused on frame 4 (time 1 s at rate 1); look 0
@@ -437,6 +526,333 @@ TEST(PluginApiLibrary, LoadsWithDlopenAndExportsOnlyTheApi) {
     // Runtime internals stay hidden (the version script exports fl_* only).
     EXPECT_EQ(dlsym(lib, "_ZN8firelook7runtime5World6updateEd"), nullptr);
     dlclose(lib);
+}
+
+// ---- the struct rule (struct_rule.h) --------------------------------------------------------------
+
+// Every fl_* struct is still at its first published layout, so an older caller is stood for by a
+// struct that has since "grown": Grown is a library struct whose first published size ends at b.
+struct Grown {
+    uint32_t struct_size;
+    int32_t a;
+    double b;
+    int32_t added;  // not in the first published version: 0 (default) for an older caller
+    int32_t added2;
+};
+struct Older {  // what an older caller compiled: Grown up to b
+    uint32_t struct_size;
+    int32_t a;
+    double b;
+};
+struct Newer {  // a newer caller: Grown plus a field this library does not know
+    Grown base;
+    double unknown;
+};
+}  // namespace
+template <>
+struct firelook::plugin::FirstSize<Grown> {
+    static constexpr size_t value = offsetof(Grown, b) + sizeof(double);
+};
+namespace {
+
+TEST(PluginApiStructRule, AnOlderCallersStructReadsWithDefaultsAndIsWrittenOnlyAsFarAsItReaches) {
+    static_assert(sizeof(Older) == firelook::plugin::FirstSize<Grown>::value);
+    // In: the fields an older caller lacks read as 0 (their default), whatever follows its struct.
+    unsigned char memory[sizeof(Grown) + 8];
+    std::memset(memory, 0xAB, sizeof memory);
+    const Older older{sizeof(Older), 7, 2.5};
+    std::memcpy(memory, &older, sizeof older);
+    const Grown in = firelook::plugin::copyIn<Grown>(memory, firelook::plugin::callerStructSize(memory));
+    EXPECT_EQ(in.struct_size, sizeof(Older));
+    EXPECT_EQ(in.a, 7);
+    EXPECT_EQ(in.b, 2.5);
+    EXPECT_EQ(in.added, 0);
+    EXPECT_EQ(in.added2, 0);
+    // Out: only the older struct's bytes are written; its struct_size is kept.
+    Grown value{};
+    value.struct_size = 999;
+    value.a = 1;
+    value.b = -1.0;
+    value.added = 5;
+    firelook::plugin::copyOut(memory, sizeof(Older), value);
+    Older out;
+    std::memcpy(&out, memory, sizeof out);
+    EXPECT_EQ(out.struct_size, sizeof(Older));
+    EXPECT_EQ(out.a, 1);
+    EXPECT_EQ(out.b, -1.0);
+    for (size_t i = sizeof(Older); i < sizeof memory; ++i) ASSERT_EQ(memory[i], 0xAB) << i;
+}
+
+TEST(PluginApiStructRule, ANewerCallersAdditionsAreIgnoredAndLeftUntouched) {
+    Newer newer{};
+    newer.base = {sizeof(Newer), 3, 4.0, 5, 6};
+    newer.unknown = 123.0;
+    const Grown in = firelook::plugin::copyIn<Grown>(&newer, newer.base.struct_size);
+    EXPECT_EQ(in.a, 3);
+    EXPECT_EQ(in.added2, 6);
+    Grown value{};
+    value.a = 9;
+    firelook::plugin::copyOut(&newer, newer.base.struct_size, value);
+    EXPECT_EQ(newer.base.struct_size, sizeof(Newer));
+    EXPECT_EQ(newer.base.a, 9);
+    EXPECT_EQ(newer.unknown, 123.0);
+}
+
+// The first published sizes the header documents ("through <field>") are today's sizes up to padding.
+TEST(PluginApiStructRule, FirstPublishedSizesAreTheDocumentedFieldEnds) {
+    using firelook::plugin::FirstSize;
+    EXPECT_EQ(FirstSize<fl_world_desc>::value, sizeof(fl_world_desc));
+    EXPECT_EQ(FirstSize<fl_instance_desc>::value, sizeof(fl_instance_desc));
+    EXPECT_EQ(FirstSize<fl_keyframe>::value, sizeof(fl_keyframe));
+    EXPECT_EQ(FirstSize<fl_playback_desc>::value, sizeof(fl_playback_desc));
+    EXPECT_EQ(FirstSize<fl_outputs_desc>::value, sizeof(fl_outputs_desc));
+    EXPECT_EQ(FirstSize<fl_package_info>::value, sizeof(fl_package_info));
+    EXPECT_LE(sizeof(fl_instance_state) - FirstSize<fl_instance_state>::value, 4u);
+    EXPECT_EQ(FirstSize<fl_init_desc>::value, sizeof(fl_init_desc));
+}
+
+// A caller whose header is newer (its structs larger, extra fields zeroed) through the real API:
+// inputs are accepted and behave as ours; outputs fill our fields and leave the caller's extra bytes
+// (0xAB here) untouched; a size below the first published one is refused.
+TEST_F(PluginApi, NewerCallersLargerStructsAreAcceptedAndTheirExtraBytesUntouched) {
+    ASSERT_EQ(fl_shutdown(), FL_OK);
+    fl_init_desc init = fl_init_desc_defaults();
+    init.sizeof_keyframe = sizeof(fl_keyframe) + 16;  // the stride of the newer keyframe array below
+    ASSERT_EQ(fl_init(&init), FL_OK);
+    const fl_package p = load();
+
+    struct NewerWorldDesc {
+        fl_world_desc base;
+        uint64_t added[2];
+    } wd{};
+    wd.base = fl_world_desc_defaults();
+    wd.base.struct_size = sizeof wd;
+    fl_world world{};
+    ASSERT_EQ(fl_world_create(&wd.base, &world), FL_OK) << fl_last_error();
+    struct NewerInstanceDesc {
+        fl_instance_desc base;
+        uint64_t added[2];
+    } id{};
+    id.base = fl_instance_desc_defaults();
+    id.base.struct_size = sizeof id;
+    id.base.package = p;
+    fl_instance inst{};
+    ASSERT_EQ(fl_instance_create(world, &id.base, &inst), FL_OK) << fl_last_error();
+    struct NewerOutputs {
+        fl_outputs_desc base;
+        uint64_t added[2];
+    } out{};
+    out.base = fl_outputs_desc_defaults();
+    out.base.struct_size = sizeof out;
+    out.base.image = 1;
+    ASSERT_EQ(fl_instance_set_outputs(world, inst, &out.base), FL_OK) << fl_last_error();
+    struct NewerPlayback {
+        fl_playback_desc base;
+        uint64_t added[2];
+    } pb{};
+    pb.base = fl_playback_desc_defaults();
+    pb.base.struct_size = sizeof pb;
+    pb.base.paused = 1;
+    pb.base.rate = 1.0;
+    pb.base.time = 1.0;  // frame 4
+    ASSERT_EQ(fl_instance_set_playback(world, inst, &pb.base), FL_OK) << fl_last_error();
+    struct NewerKeyframe {
+        fl_keyframe base;
+        uint64_t added[2];
+    } keys[2] = {};
+    fl_look look{};
+    ASSERT_EQ(fl_package_default_look(p, &look), FL_OK);
+    keys[0].base.frame = 3.0;
+    keys[0].base.look = look;
+    keys[1].base.frame = 5.0;
+    keys[1].base.look = look;
+    ASSERT_EQ(fl_instance_set_keyframes(world, inst, &keys[0].base, 2), FL_OK) << fl_last_error();
+    ASSERT_EQ(fl_world_update(world, 0.0), FL_OK) << fl_last_error();
+
+    struct NewerState {
+        fl_instance_state base;
+        unsigned char added[24];
+    } st;
+    std::memset(&st, 0xAB, sizeof st);
+    st.base.struct_size = sizeof st;
+    ASSERT_EQ(fl_instance_get_state(world, inst, &st.base), FL_OK) << fl_last_error();
+    EXPECT_EQ(st.base.struct_size, sizeof st);
+    EXPECT_EQ(st.base.updated, 1);
+    EXPECT_EQ(st.base.frame, 4);
+    EXPECT_EQ(st.base.rank, 7);
+    for (unsigned char b : st.added) ASSERT_EQ(b, 0xAB);
+    struct NewerInfo {
+        fl_package_info base;
+        unsigned char added[24];
+    } info;
+    std::memset(&info, 0xAB, sizeof info);
+    info.base.struct_size = sizeof info;
+    ASSERT_EQ(fl_package_get_info(p, &info.base), FL_OK) << fl_last_error();
+    EXPECT_EQ(info.base.struct_size, sizeof info);
+    EXPECT_EQ(info.base.width, 16);
+    EXPECT_EQ(info.base.frame_count, 3);
+    EXPECT_DOUBLE_EQ(info.base.flame_extinction_max, 4.0);
+    for (unsigned char b : info.added) ASSERT_EQ(b, 0xAB);
+
+    // The same instance driven with structs of today's size gives the same state.
+    fl_instance_state now = fl_instance_state_defaults();
+    ASSERT_EQ(fl_instance_get_state(world, inst, &now), FL_OK);
+    EXPECT_EQ(std::memcmp(&now.updated, &st.base.updated, offsetof(fl_instance_state, reserved) - 4), 0);
+
+    // One byte below the first published size is refused.
+    fl_package_info short_info = fl_package_info_defaults();
+    short_info.struct_size = static_cast<uint32_t>(firelook::plugin::FirstSize<fl_package_info>::value - 1);
+    EXPECT_EQ(fl_package_get_info(p, &short_info), FL_ERROR_STRUCT_SIZE);
+    fl_outputs_desc short_out = fl_outputs_desc_defaults();
+    short_out.struct_size = static_cast<uint32_t>(firelook::plugin::FirstSize<fl_outputs_desc>::value - 4);
+    EXPECT_EQ(fl_instance_set_outputs(world, inst, &short_out), FL_ERROR_STRUCT_SIZE);
+    EXPECT_EQ(fl_look_release(look), FL_OK);
+    EXPECT_EQ(fl_world_destroy(world), FL_OK);
+    EXPECT_EQ(fl_package_release(p), FL_OK);
+}
+
+// ---- handles ---------------------------------------------------------------------------------------
+
+fl_instance createInstance(fl_world world, fl_package package) {
+    fl_instance_desc d = fl_instance_desc_defaults();
+    d.package = package;
+    fl_instance i{};
+    EXPECT_EQ(fl_instance_create(world, &d, &i), FL_OK) << fl_last_error();
+    return i;
+}
+
+// The issue's reproduction: with two worlds holding one instance each, world B is handed world A's
+// instance. Every instance call refuses it, and world B's own instance survives.
+TEST_F(PluginApi, AnInstanceOfAnotherWorldIsRefusedAndTheOtherWorldsInstanceSurvives) {
+    const fl_package p = load();
+    fl_world a{}, b{};
+    ASSERT_EQ(fl_world_create(nullptr, &a), FL_OK);
+    ASSERT_EQ(fl_world_create(nullptr, &b), FL_OK);
+    const fl_instance of_a = createInstance(a, p), of_b = createInstance(b, p);
+    fl_look look{};
+    ASSERT_EQ(fl_package_default_look(p, &look), FL_OK);
+    fl_instance_state st = fl_instance_state_defaults();
+    fl_outputs_desc out = fl_outputs_desc_defaults();
+    fl_playback_desc pb = fl_playback_desc_defaults();
+    const fl_keyframe key = {3.0, look, 0};
+    float buf[16];
+    int32_t rank = 0;
+
+    EXPECT_EQ(fl_instance_destroy(b, of_a), FL_ERROR_INVALID_HANDLE);
+    EXPECT_NE(std::string(fl_last_error()).find("another world"), std::string::npos) << fl_last_error();
+    EXPECT_EQ(fl_instance_set_look(b, of_a, look), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_set_keyframes(b, of_a, &key, 1), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_set_playback(b, of_a, &pb), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_set_outputs(b, of_a, &out), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_get_state(b, of_a, &st), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_get_coefficients(b, of_a, buf, 16, &rank), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_get_image(b, of_a, buf, 16), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_get_flare(b, of_a, buf, 16), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_destroy(a, of_b), FL_ERROR_INVALID_HANDLE);
+
+    uint32_t count = 0;
+    ASSERT_EQ(fl_world_instance_count(b, &count), FL_OK);
+    EXPECT_EQ(count, 1u);
+    ASSERT_EQ(fl_world_update(b, 0.0), FL_OK);
+    EXPECT_EQ(fl_instance_get_state(b, of_b, &st), FL_OK);
+    EXPECT_EQ(st.updated, 1);
+    EXPECT_EQ(fl_instance_get_state(a, of_a, &st), FL_OK);  // A's own still answers through A
+
+    // Destroying world A makes its instance's handle stale everywhere; B's is unaffected.
+    EXPECT_EQ(fl_world_destroy(a), FL_OK);
+    EXPECT_EQ(fl_instance_get_state(b, of_a, &st), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_destroy(b, of_b), FL_OK);
+    EXPECT_EQ(fl_instance_destroy(b, of_b), FL_ERROR_INVALID_HANDLE);  // stale after destroy
+    EXPECT_EQ(fl_look_release(look), FL_OK);
+    EXPECT_EQ(fl_world_destroy(b), FL_OK);
+    EXPECT_EQ(fl_package_release(p), FL_OK);
+}
+
+// Ids carry their kind: a live id of one kind is refused as every other kind, the message saying so.
+TEST_F(PluginApi, AHandleOfAnotherKindIsRefused) {
+    const fl_package p = load();
+    fl_world w{};
+    ASSERT_EQ(fl_world_create(nullptr, &w), FL_OK);
+    fl_look look{};
+    ASSERT_EQ(fl_package_default_look(p, &look), FL_OK);
+    const fl_instance inst = createInstance(w, p);
+    fl_package_info info = fl_package_info_defaults();
+    size_t size = 0;
+    uint32_t count = 0;
+
+    EXPECT_EQ(fl_package_get_info(fl_package{w.id}, &info), FL_ERROR_INVALID_HANDLE);  // a world as a package
+    EXPECT_NE(std::string(fl_last_error()).find("a world handle, not a package handle"), std::string::npos) << fl_last_error();
+    EXPECT_EQ(fl_world_update(fl_world{p.id}, 0.0), FL_ERROR_INVALID_HANDLE);  // a package as a world
+    EXPECT_EQ(fl_world_instance_count(fl_world{p.id}, &count), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_world_destroy(fl_world{look.id}), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_world_update(fl_world{inst.id}, 0.0), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_look_to_json(fl_look{p.id}, nullptr, 0, &size), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_look_release(fl_look{w.id}), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_package_release(fl_package{look.id}), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_package_release(fl_package{inst.id}), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_destroy(w, fl_instance{p.id}), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_destroy(w, fl_instance{w.id}), FL_ERROR_INVALID_HANDLE);
+    fl_instance_desc d = fl_instance_desc_defaults();
+    d.package = fl_package{w.id};
+    fl_instance other{};
+    EXPECT_EQ(fl_instance_create(w, &d, &other), FL_ERROR_INVALID_HANDLE);
+    d.package = p;
+    d.look = fl_look{p.id};
+    EXPECT_EQ(fl_instance_create(w, &d, &other), FL_ERROR_INVALID_HANDLE);
+    ASSERT_EQ(fl_world_instance_count(w, &count), FL_OK);
+    EXPECT_EQ(count, 1u);  // the refused creates left nothing behind
+
+    // The refused calls changed nothing: every object still works through its own kind.
+    EXPECT_EQ(fl_package_get_info(p, &info), FL_OK);
+    EXPECT_EQ(fl_world_update(w, 0.0), FL_OK);
+    EXPECT_EQ(fl_look_to_json(look, nullptr, 0, &size), FL_OK);
+    EXPECT_EQ(fl_instance_destroy(w, inst), FL_OK);
+    EXPECT_EQ(fl_look_release(look), FL_OK);
+    EXPECT_EQ(fl_world_destroy(w), FL_OK);
+    EXPECT_EQ(fl_package_release(p), FL_OK);
+}
+
+// ---- coded errors ----------------------------------------------------------------------------------
+
+// A package whose content is wrong is FL_ERROR_CORRUPT, with a message naming the file: META that is
+// not a bake description (open), and frames whose sections are missing (the frame's shape check on
+// every read: fl_package_get_frame_u/_depths and the world's update).
+TEST_F(PluginApi, ABadPackageIsCorruptAndTheMessageNamesTheFile) {
+    const std::string bad_meta = (dir_ / "bad-meta.firelook").string();
+    {
+        firelook::package::PackageWriter writer(bad_meta, firelook::package::WriterOptions{1});
+        writer.addMetadata(R"({"format": "firelook-basis", "bake": {"width": 16}})");
+        writer.commit();
+    }
+    fl_package q{};
+    EXPECT_EQ(fl_package_load(bad_meta.c_str(), &q), FL_ERROR_CORRUPT) << fl_last_error();
+    EXPECT_NE(std::string(fl_last_error()).find("bad-meta.firelook"), std::string::npos) << fl_last_error();
+
+    const std::string no_frames = (dir_ / "no-frame-sections.firelook").string();
+    {
+        firelook::testing::SyntheticShape shape;
+        firelook::basis::BakeDescription d = firelook::testing::syntheticDescription(shape);
+        d.frames = {{3, 4}};  // listed, but its sections were never written
+        firelook::package::PackageWriter writer(no_frames, firelook::package::WriterOptions{1});
+        writer.addMetadata(firelook::basis::makeMetadata(d, "{}"));
+        writer.commit();
+    }
+    fl_package p{};
+    ASSERT_EQ(fl_package_load(no_frames.c_str(), &p), FL_OK) << fl_last_error();  // frames read on demand
+    size_t n = 0;
+    ASSERT_EQ(fl_package_get_frame_u(p, 3, nullptr, 0, &n), FL_OK);
+    std::vector<uint16_t> u(n);
+    EXPECT_EQ(fl_package_get_frame_u(p, 3, u.data(), u.size(), &n), FL_ERROR_CORRUPT) << fl_last_error();
+    EXPECT_NE(std::string(fl_last_error()).find("no-frame-sections.firelook"), std::string::npos) << fl_last_error();
+    ASSERT_EQ(fl_package_get_frame_depths(p, 3, nullptr, 0, &n), FL_OK);
+    std::vector<float> depths(n);
+    EXPECT_EQ(fl_package_get_frame_depths(p, 3, depths.data(), depths.size(), &n), FL_ERROR_CORRUPT);
+    fl_world w{};
+    ASSERT_EQ(fl_world_create(nullptr, &w), FL_OK);
+    createInstance(w, p);
+    EXPECT_EQ(fl_world_update(w, 0.0), FL_ERROR_CORRUPT) << fl_last_error();
+    EXPECT_EQ(fl_world_destroy(w), FL_OK);
+    EXPECT_EQ(fl_package_release(p), FL_OK);
 }
 
 }  // namespace

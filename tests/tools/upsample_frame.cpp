@@ -17,20 +17,20 @@
 //     products of two negative lobes are small positive values (on frame 12 at x2: up to 1.3e-4
 //     density, 3e-3 temperature, 1.5 input voxels out); they are artifacts, not smoke.
 // Any grid of another value type is an error: silently dropping it would break "drop nothing".
-// The file is written to OUT.tmp-<pid> and renamed, so OUT is never left half-written.
+// The file is written atomically (common/atomic_file.h), so OUT is never left half-written.
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Count.h>
 #include <openvdb/tools/GridTransformer.h>
 #include <openvdb/tools/Prune.h>
 #include <openvdb/tree/LeafManager.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+
+#include "common/atomic_file.h"
 
 namespace {
 
@@ -150,16 +150,14 @@ void run(const std::filesystem::path& in_path, const std::filesystem::path& out_
     }
     if (out_grids.empty()) throw std::runtime_error(in_path.string() + ": no grids");
 
-    const std::filesystem::path tmp = out_path.string() + ".tmp-" + std::to_string(::getpid());
     try {
-        openvdb::io::File out_file(tmp.string());
-        out_file.setCompression(in_file.compression());
-        out_file.write(out_grids, *in_file.getMetadata());
-        out_file.close();
-        std::filesystem::rename(tmp, out_path);
+        firelook::writeFileAtomically(out_path, [&](const std::filesystem::path& temporary) {
+            openvdb::io::File out_file(temporary.string());
+            out_file.setCompression(in_file.compression());
+            out_file.write(out_grids, *in_file.getMetadata());
+            out_file.close();
+        });
     } catch (const std::exception& error) {
-        std::error_code ignored;
-        std::filesystem::remove(tmp, ignored);
         throw std::runtime_error(out_path.string() + ": cannot write (" + error.what() + ")");
     }
     std::printf("%s: %zu grids x%d: %s -> %s\n", out_path.string().c_str(), out_grids.size(), factor,

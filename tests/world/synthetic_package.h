@@ -82,7 +82,7 @@ inline void writeSyntheticPackage(const std::filesystem::path& file, const Synth
     for (int frame : s.frames) {
         // Ranks differ per frame (rank, rank - 1, ...) so per-frame ranks are exercised.
         const int rank = std::max(1, s.rank - static_cast<int>(d.frames.size()));
-        basis::writeFrameFactors(writer, syntheticFrame(d, frame, rank, s.seed));
+        basis::writeFrameFactors(writer, d, syntheticFrame(d, frame, rank, s.seed));
         d.frames.push_back({frame, rank});
     }
     writer.addMetadata(basis::makeMetadata(d, R"({"provenance": {"tool": "synthetic_package"}})"));

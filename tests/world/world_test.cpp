@@ -376,8 +376,9 @@ TEST(World, HardLooksNeverProduceNaN) {
     Look bright = lookA();
     bright.emission = EmissionPreset{"fire", 1e30};
     looks.push_back(bright);
+    std::vector<InstanceHandle> handles;  // one per look, in order
     for (const Look& look : looks) {
-        const InstanceHandle h = world.create(package);
+        const InstanceHandle h = handles.emplace_back(world.create(package));
         world.setLook(h, look);
         OutputSettings out{true, true, {}};
         world.setOutputs(h, out);
@@ -386,8 +387,7 @@ TEST(World, HardLooksNeverProduceNaN) {
     world.update(1.0 / 24);
     const size_t floats = static_cast<size_t>(package->description().pixelCount()) * 4;
     for (size_t i = 0; i < world.size(); ++i) {
-        const InstanceHandle h = static_cast<InstanceHandle>((1u << 20) | (i + 1));
-        const InstanceState s = world.state(h);
+        const InstanceState s = world.state(handles[i]);
         for (int k = 0; k < s.rank * 3; ++k) ASSERT_FALSE(std::isnan(s.z[k])) << i;
         for (size_t p = 0; p < floats; ++p) {
             ASSERT_TRUE(std::isfinite(s.image[p])) << "look " << i << " value " << p;
@@ -399,7 +399,7 @@ TEST(World, HardLooksNeverProduceNaN) {
         }
     }
     // Zero extinction: transparent. Huge extinction: opaque wherever there is density.
-    const InstanceState clear = world.state((1u << 20) | 1), opaque = world.state((1u << 20) | 2);
+    const InstanceState clear = world.state(handles[0]), opaque = world.state(handles[1]);
     for (size_t p = 3; p < floats; p += 4) {
         EXPECT_EQ(clear.image[p], 0.0f);
         EXPECT_EQ(opaque.image[p], 1.0f);

@@ -5,7 +5,8 @@
 #include <cstdio>
 #include <string>
 
-#include "atomic_file.h"
+#include "common/atomic_file.h"
+#include "common/error.h"
 #include "image/image_io.h"
 #include "image_format.h"
 #include "png_pixels.h"
@@ -106,13 +107,17 @@ void writeImage(const std::filesystem::path& path, const ImageRGBA& image, const
     if (format == detail::FileFormat::Png && !std::isfinite(options.png_exposure_stops)) {
         throw ImageError(path.string() + ": PNG exposure is not finite");
     }
-    detail::writeAtomically(path, [&](const std::filesystem::path& temporary) {
-        if (format == detail::FileFormat::Exr) {
-            writeExr(path, temporary, image, options.exr_pixel_type);
-        } else {
-            writePng(path, temporary, image, options);
-        }
-    });
+    try {
+        writeFileAtomically(path, [&](const std::filesystem::path& temporary) {
+            if (format == detail::FileFormat::Exr) {
+                writeExr(path, temporary, image, options.exr_pixel_type);
+            } else {
+                writePng(path, temporary, image, options);
+            }
+        });
+    } catch (const firelook::Error& error) {
+        throw ImageError(error.what());  // the temporary's failures (its message names the file)
+    }
 }
 
 }  // namespace firelook::image

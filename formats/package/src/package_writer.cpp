@@ -1,18 +1,18 @@
 #include "package/package_writer.h"
 
-#include <fcntl.h>
 #include <unistd.h>
 
 #include <array>
-#include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <unordered_set>
 #include <utility>
 #include <vector>
 
 #include "checksum.h"
+#include "common/atomic_file.h"
 #include "package/error.h"
 #include "section_name.h"
 #include "zstd_codec.h"
@@ -33,21 +33,6 @@ std::span<const std::byte> bytesOf(const T& value) {
     return std::as_bytes(std::span<const T>(&value, 1));
 }
 
-// Opens a fresh file beside `destination`, created with mode 0666 so the umask applies as for any
-// other new file (mkstemp would force 0600 on the published package).
-int createTemporary(const std::filesystem::path& destination, std::filesystem::path& temporary) {
-    static std::atomic<unsigned> counter{0};
-    const std::filesystem::path folder = destination.has_parent_path() ? destination.parent_path() : ".";
-    for (int attempt = 0; attempt < 100; ++attempt) {
-        temporary = folder / ("." + destination.filename().string() + "." + std::to_string(::getpid()) + "-" +
-                              std::to_string(counter.fetch_add(1)) + ".tmp");
-        const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd >= 0 || errno != EEXIST) return fd;
-    }
-    errno = EEXIST;
-    return -1;
-}
-
 }  // namespace
 
 struct PackageWriter::Impl {
@@ -58,36 +43,32 @@ struct PackageWriter::Impl {
           options(writer_options),
           compressor(writer_options.zstd_level, destination) {}
 
-    ~Impl() {
-        if (fd >= 0) ::close(fd);
-        if (state != State::Committed && !temporary.empty()) ::unlink(temporary.c_str());
-    }
-
-    [[noreturn]] void fail(const std::string& action) {
-        const int error = errno;
+    // AtomicFile (common/atomic_file.h) says "<destination>: <problem>"; PackageError adds the file
+    // and the code itself. The temporary is already removed.
+    [[noreturn]] void fail(const firelook::Error& error, const std::string& during) {
         state = State::Failed;
-        throw PackageError(
-            ErrorCode::IoError, destination,
-            "cannot " + action + " (temporary file " + temporary.string() + "): " + std::strerror(error));
+        std::string problem = error.what();
+        const std::string prefix = destination.string() + ": ";
+        if (problem.starts_with(prefix)) problem.erase(0, prefix.size());
+        throw PackageError(ErrorCode::IoError, destination, problem + (during.empty() ? "" : " (" + during + ")"));
     }
 
     void writeAll(std::span<const std::byte> bytes, const std::string& what) {
-        while (!bytes.empty()) {
-            const ssize_t written = ::write(fd, bytes.data(), bytes.size());
-            if (written < 0 && errno == EINTR) continue;
-            if (written < 0) fail("write " + what);
-            bytes = bytes.subspan(static_cast<std::size_t>(written));
-            position += static_cast<uint64_t>(written);
+        try {
+            file->write(bytes);
+        } catch (const firelook::Error& error) {
+            fail(error, "writing " + what);
         }
+        position += bytes.size();
     }
 
     void padToAlignment() { writeAll(std::span(kZeros).first(alignUp(position) - position), "padding"); }
 
     std::filesystem::path destination;
-    std::filesystem::path temporary;
+    std::filesystem::path temporary;  // kept after commit, for temporaryPath()
     WriterOptions options;
     detail::ZstdCompressor compressor;
-    int fd = -1;
+    std::optional<AtomicFile> file;  // removes the temporary unless committed
     uint64_t position = 0;  // bytes written to the temporary file so far
     std::vector<IndexEntry> index;
     std::unordered_set<uint64_t> keys;  // (type, frame) pairs already written
@@ -97,13 +78,12 @@ struct PackageWriter::Impl {
 PackageWriter::PackageWriter(std::filesystem::path destination, WriterOptions options)
     : impl_(std::make_unique<Impl>(std::move(destination), options)) {
     Impl& writer = *impl_;
-    writer.fd = createTemporary(writer.destination, writer.temporary);
-    if (writer.fd < 0) {
-        const int error = errno;
-        writer.temporary.clear();
-        throw PackageError(ErrorCode::IoError, writer.destination,
-                           std::string("cannot create a temporary file beside it: ") + std::strerror(error));
+    try {
+        writer.file.emplace(writer.destination);
+    } catch (const firelook::Error& error) {
+        writer.fail(error, "");
     }
+    writer.temporary = writer.file->temporary();
     // The header is written by commit(); until then the file does not claim to be a package.
     writer.writeAll(std::span(kZeros).first(sizeof(FileHeader)), "the header placeholder");
 }
@@ -184,27 +164,21 @@ void PackageWriter::commit() {
 
     writer.writeAll(index_bytes, "the index");
     const std::span<const std::byte> header_bytes = bytesOf(header);
-    const ssize_t written = ::pwrite(writer.fd, header_bytes.data(), header_bytes.size(), 0);
+    const ssize_t written = ::pwrite(writer.file->fd(), header_bytes.data(), header_bytes.size(), 0);
     if (written != static_cast<ssize_t>(header_bytes.size())) {
-        if (written >= 0) errno = EIO;  // a short write of 64 bytes leaves no errno of its own
-        writer.fail("write the header");
+        const int error = written >= 0 ? EIO : errno;  // a short write of 64 bytes leaves no errno of its own
+        writer.file->discard();
+        writer.state = Impl::State::Failed;
+        throw PackageError(ErrorCode::IoError, writer.destination,
+                           "cannot write the header (temporary file " + writer.temporary.string() +
+                               "): " + std::strerror(error));
     }
-    if (::fsync(writer.fd) != 0) writer.fail("flush to disk");
-    const int fd = std::exchange(writer.fd, -1);
-    if (::close(fd) != 0) writer.fail("close");
-    if (::rename(writer.temporary.c_str(), writer.destination.c_str()) != 0)
-        writer.fail("rename onto the destination");
+    try {
+        writer.file->commit();  // fsync, rename onto the destination, fsync of the folder
+    } catch (const firelook::Error& error) {
+        writer.fail(error, "");
+    }
     writer.state = Impl::State::Committed;
-
-    // Make the rename itself durable. Best effort: the package is already published, and some file
-    // systems refuse fsync on a folder.
-    const std::filesystem::path folder =
-        writer.destination.has_parent_path() ? writer.destination.parent_path() : ".";
-    const int folder_fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (folder_fd >= 0) {
-        ::fsync(folder_fd);
-        ::close(folder_fd);
-    }
 }
 
 const std::filesystem::path& PackageWriter::destination() const {

@@ -11,8 +11,9 @@
    1. Start-up. Fill an fl_init_desc with fl_init_desc_defaults() (which
       records this header's version and struct sizes, like IMGUI_CHECKVERSION),
       optionally add an allocator and a log callback, and call fl_init(). A
-      library built from a different header refuses with
-      FL_ERROR_VERSION_MISMATCH instead of misreading your structs.
+      header the library cannot serve (another major, a newer minor, a struct
+      smaller than first published) is refused with FL_ERROR_VERSION_MISMATCH
+      instead of misreading your structs.
    2. Load a package: fl_package_load(path, &package). fl_package_get_info()
       and friends describe it (frames, size, rank per frame, bins, lights,
       parameter ranges, default look as JSON).
@@ -29,15 +30,22 @@
    6. Release everything and call fl_shutdown().
 
    Conventions (after sokol_gfx, OpenEXRCore, Dear ImGui and flecs):
-   - Handles are structs holding a 32-bit id made of an index and a
-     generation; id 0 is never valid. A released or destroyed object's handle
-     is detected (FL_ERROR_INVALID_HANDLE), never dereferenced.
-   - Every struct that may grow starts with uint32_t struct_size = sizeof
-     the caller's struct; the library reads only the fields that fit in it
-     and rejects sizes smaller than the first published version
-     (FL_ERROR_STRUCT_SIZE). The *_defaults() functions are static inline
-     here, so they fill in the caller's sizeof. In desc structs, 0 means
-     "default" for every field.
+   - Handles are structs holding a 32-bit id made of its kind (package, look,
+     world, instance), an index and a generation; id 0 is never valid. A
+     released or destroyed object's handle, a handle of another kind, and an
+     instance handle passed with a world that did not create it are detected
+     (FL_ERROR_INVALID_HANDLE), never dereferenced.
+   - Structs may grow; each (but fl_keyframe) starts with uint32_t
+     struct_size = sizeof the caller's struct. The library copies
+     min(struct_size, its own sizeof) bytes in and out: fields an older
+     caller's struct lacks take their defaults (0), what a newer caller's
+     struct adds is ignored on input and left untouched on output. A
+     struct_size below the struct's first published size (noted at each
+     struct: the end of the field named there) is refused with
+     FL_ERROR_STRUCT_SIZE. fl_keyframe arrays are read with the stride given
+     as sizeof_keyframe to fl_init. The *_defaults() functions are static
+     inline here, so they fill in the caller's sizeof. In desc structs, 0
+     means "default" for every field.
    - Every call returns an fl_result; FL_OK is 0, errors are negative.
      fl_result_string() names a code; fl_last_error() gives the message of
      the calling thread's last failed call (it names the file and the problem).
@@ -67,7 +75,8 @@
 #define FIRELOOK_VERSION_MAJOR 0
 #define FIRELOOK_VERSION_MINOR 1
 #define FIRELOOK_VERSION_PATCH 0
-/* major * 10000 + minor * 100 + patch. fl_init() accepts a header of the same major and a minor no newer. */
+/* major * 10000 + minor * 100 + patch. fl_init() accepts a header of the same major and a minor no newer
+   (any patch); the first published header is 100. */
 #define FIRELOOK_HEADER_VERSION 100
 
 #if defined(_WIN32)
@@ -88,29 +97,34 @@ extern "C" {
 
 /* ---- results ------------------------------------------------------------ */
 
-typedef int32_t fl_result;
-enum {
-    FL_OK = 0,
-    FL_ERROR_INVALID_ARGUMENT = -1,  /* a null pointer, a non-finite or out-of-range value */
-    FL_ERROR_INVALID_HANDLE = -2,    /* 0, stale (released/destroyed) or from another world */
-    FL_ERROR_STRUCT_SIZE = -3,       /* struct_size too small or 0 */
-    FL_ERROR_VERSION_MISMATCH = -4,  /* header and library disagree (fl_init) */
-    FL_ERROR_NOT_INITIALIZED = -5,   /* fl_init has not succeeded */
-    FL_ERROR_ALREADY_INITIALIZED = -6,
-    FL_ERROR_IO = -7,                /* the file could not be opened or read */
-    FL_ERROR_NOT_A_PACKAGE = -8,     /* the file is not a .firelook package */
-    FL_ERROR_CORRUPT = -9,           /* truncated, checksum mismatch, inconsistent content */
-    FL_ERROR_UNSUPPORTED = -10,      /* a newer package version or a required feature this build lacks */
-    FL_ERROR_LOOK = -11,             /* bad look JSON, or a look that does not fit the package */
-    FL_ERROR_BUFFER_TOO_SMALL = -12, /* the needed size is reported through the size output */
-    FL_ERROR_OUT_OF_MEMORY = -13,
-    FL_ERROR_NO_DATA = -14,          /* output not enabled, or no fl_world_update since it was */
-    FL_ERROR_NOT_FOUND = -15,        /* no such frame in the package */
-    FL_ERROR_LIMIT = -16,            /* too many objects of one kind */
-    FL_ERROR_INTERNAL = -17          /* a bug: please report with fl_last_error() */
-};
+/* Every result, in one list: X(name, value). fl_result_string() is generated from it too. */
+#define FIRELOOK_RESULTS(X)                                                                              \
+    X(FL_OK, 0)                                                                                          \
+    X(FL_ERROR_INVALID_ARGUMENT, -1)  /* a null pointer, a non-finite or out-of-range value */           \
+    X(FL_ERROR_INVALID_HANDLE, -2)    /* 0, stale (released/destroyed), another kind, another world's */ \
+    X(FL_ERROR_STRUCT_SIZE, -3)       /* struct_size below the first published size, or 0 */             \
+    X(FL_ERROR_VERSION_MISMATCH, -4)  /* header and library disagree (fl_init) */                        \
+    X(FL_ERROR_NOT_INITIALIZED, -5)   /* fl_init has not succeeded */                                    \
+    X(FL_ERROR_ALREADY_INITIALIZED, -6)                                                                  \
+    X(FL_ERROR_IO, -7)                /* the file could not be opened or read */                         \
+    X(FL_ERROR_NOT_A_PACKAGE, -8)     /* the file is not a .firelook package */                          \
+    X(FL_ERROR_CORRUPT, -9)           /* truncated, checksum mismatch, inconsistent content */           \
+    X(FL_ERROR_UNSUPPORTED, -10)      /* a newer package version or a required feature this build lacks */ \
+    X(FL_ERROR_LOOK, -11)             /* bad look JSON, or a look that does not fit the package */       \
+    X(FL_ERROR_BUFFER_TOO_SMALL, -12) /* the needed size is reported through the size output */          \
+    X(FL_ERROR_OUT_OF_MEMORY, -13)                                                                       \
+    X(FL_ERROR_NO_DATA, -14)          /* output not enabled, or no fl_world_update since it was */       \
+    X(FL_ERROR_NOT_FOUND, -15)        /* no such frame in the package */                                 \
+    X(FL_ERROR_LIMIT, -16)            /* too many objects of one kind */                                 \
+    X(FL_ERROR_INTERNAL, -17)         /* a bug: please report with fl_last_error() */
 
-/* A short constant name ("FL_ERROR_INVALID_HANDLE"); never null; static storage. Callable any time. */
+typedef int32_t fl_result;
+#define FIRELOOK_RESULT_ENUMERATOR(name, value) name = value,
+enum { FIRELOOK_RESULTS(FIRELOOK_RESULT_ENUMERATOR) };
+#undef FIRELOOK_RESULT_ENUMERATOR
+
+/* A short constant name ("FL_ERROR_INVALID_HANDLE"), "FL_ERROR_UNKNOWN" for a value not in the list;
+   never null; static storage. Callable any time. */
 FIRELOOK_API const char* fl_result_string(fl_result result);
 /* The calling thread's last error message ("" if none); valid until this thread's next FireLook call. */
 FIRELOOK_API const char* fl_last_error(void);
@@ -120,7 +134,7 @@ FIRELOOK_API const char* fl_last_error(void);
 typedef struct fl_package { uint32_t id; } fl_package;
 typedef struct fl_look { uint32_t id; } fl_look;
 typedef struct fl_world { uint32_t id; } fl_world;
-typedef struct fl_instance { uint32_t id; } fl_instance;  /* valid within the world that created it */
+typedef struct fl_instance { uint32_t id; } fl_instance;  /* valid only with the world that created it */
 
 /* ---- start-up ----------------------------------------------------------- */
 
@@ -139,10 +153,12 @@ enum { FL_LOG_DEBUG = 0, FL_LOG_INFO = 1, FL_LOG_WARNING = 2, FL_LOG_ERROR = 3 }
 /* message is valid during the call only. Called on the thread making the FireLook call. */
 typedef void (*fl_log_fn)(int32_t level, const char* message, void* user);
 
+/* First published size: through reserved2. */
 typedef struct fl_init_desc {
     uint32_t struct_size;     /* sizeof(fl_init_desc) */
-    uint32_t header_version;  /* FIRELOOK_HEADER_VERSION */
-    /* sizeof of every struct below, as the caller compiled them */
+    uint32_t header_version;  /* FIRELOOK_HEADER_VERSION; read when struct_size covers it */
+    /* sizeof of every struct below, as the caller compiled them: each at least its first published size
+       (else FL_ERROR_VERSION_MISMATCH); larger is accepted. sizeof_keyframe is the stride of keyframe arrays. */
     uint32_t sizeof_world_desc;
     uint32_t sizeof_instance_desc;
     uint32_t sizeof_playback_desc;
@@ -160,8 +176,9 @@ typedef struct fl_init_desc {
 
 /* ---- packages ----------------------------------------------------------- */
 
+/* First published size: through flame_extinction_max. */
 typedef struct fl_package_info {
-    uint32_t struct_size;  /* in: sizeof(fl_package_info) */
+    uint32_t struct_size;  /* in: sizeof(fl_package_info); kept */
     int32_t width, height;          /* image size in pixels */
     int32_t frame_count;            /* baked frames (see fl_package_get_frames) */
     int32_t first_frame, last_frame;
@@ -224,6 +241,7 @@ FIRELOOK_API fl_result fl_look_to_json(fl_look look, char* buffer, size_t capaci
 
 /* ---- worlds and instances ---------------------------------------------- */
 
+/* First published size: through frame_cache_bytes. */
 typedef struct fl_world_desc {
     uint32_t struct_size;
     uint32_t reserved;
@@ -232,18 +250,22 @@ typedef struct fl_world_desc {
     uint64_t frame_cache_bytes;
 } fl_world_desc;
 
+/* First published size: through look. */
 typedef struct fl_instance_desc {
     uint32_t struct_size;
     fl_package package;  /* required */
     fl_look look;        /* 0: the package's default look */
 } fl_instance_desc;
 
+/* No struct_size: arrays of it are read with fl_init's sizeof_keyframe as the stride. First published
+   size: through reserved. */
 typedef struct fl_keyframe {
     double frame;  /* package frame number, fractional allowed */
     fl_look look;
     uint32_t reserved;
 } fl_keyframe;
 
+/* First published size: through rate. */
 typedef struct fl_playback_desc {
     uint32_t struct_size;
     int32_t paused;           /* non-zero: fl_world_update does not advance the time */
@@ -254,6 +276,7 @@ typedef struct fl_playback_desc {
     double rate;  /* frames per second; 0 = 24; negative plays backwards */
 } fl_playback_desc;
 
+/* First published size: through streaks. */
 typedef struct fl_outputs_desc {
     uint32_t struct_size;
     int32_t image;       /* non-zero: CPU image each update */
@@ -280,7 +303,7 @@ typedef struct fl_outputs_desc {
    shader needs:  rgb(p) = max(0, sum_k U[p][k] * z[k])  (z from fl_instance_get_coefficients),
    alpha(p) = mean over the footprint samples s of 1 - exp(-(extinction_a * O_a(s, p) + extinction_b * O_b(s, p))),
    O_a(s, p) = (1 - alpha_layer_t) * O_a(s, alpha_layer_lower)(p) + alpha_layer_t * O_a(s, alpha_layer_upper)(p)
-   (threshold indices j of fl_package_get_frame_depths). */
+   (threshold indices j of fl_package_get_frame_depths). First published size: through reserved. */
 typedef struct fl_instance_state {
     uint32_t struct_size;
     int32_t updated;  /* 0 until the first update after creation */
@@ -297,7 +320,7 @@ typedef struct fl_instance_state {
 
 /* Worlds: fl_world_create/destroy are thread-safe with respect to other worlds. */
 FIRELOOK_API fl_result fl_world_create(const fl_world_desc* desc, fl_world* out_world);  /* desc may be null */
-/* Destroys the world and every instance in it. */
+/* Destroys the world and every instance in it (their handles become invalid). */
 FIRELOOK_API fl_result fl_world_destroy(fl_world world);
 /* Runs playback -> keyframes -> coefficients -> images -> lens flare for every instance. dt in seconds. */
 FIRELOOK_API fl_result fl_world_update(fl_world world, double dt);

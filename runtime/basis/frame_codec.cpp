@@ -1,0 +1,561 @@
+#include "basis/frame_codec.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <glm/gtc/packing.hpp>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace firelook::basis {
+namespace {
+
+// Depths decode to at most this (the largest half, as packages of layout 1 stored): every
+// transmittance exp(-k * 65504) is 0 in float for k above 0.0016.
+constexpr double kLargestDepth = 65504.0;
+constexpr uint32_t kCodecVersion = 1;
+// U and S V^T share the basis error: each adds half of its square.
+constexpr double kPerFactor = 0.70710678118654752;
+
+// ---- little-endian byte streams with bounds checks ------------------------------------------
+class ByteWriter {
+  public:
+    template <typename T>
+    void put(T value) {
+        const size_t at = bytes_.size();
+        bytes_.resize(at + sizeof(T));
+        std::memcpy(bytes_.data() + at, &value, sizeof(T));
+    }
+    std::byte* grow(size_t count) {
+        const size_t at = bytes_.size();
+        bytes_.resize(at + count);
+        return bytes_.data() + at;
+    }
+    std::vector<std::byte> take() { return std::move(bytes_); }
+
+  private:
+    std::vector<std::byte> bytes_;
+};
+
+class ByteReader {
+  public:
+    ByteReader(std::span<const std::byte> bytes, std::string what) : bytes_(bytes), what_(std::move(what)) {}
+    template <typename T>
+    T get() {
+        T value;
+        std::memcpy(&value, need(sizeof(T)), sizeof(T));
+        return value;
+    }
+    const std::byte* need(size_t count) {
+        if (count > bytes_.size() - at_) fail("ends early");
+        const std::byte* p = bytes_.data() + at_;
+        at_ += count;
+        return p;
+    }
+    void expectEnd() const {
+        if (at_ != bytes_.size()) fail("has " + std::to_string(bytes_.size() - at_) + " bytes too many");
+    }
+    [[noreturn]] void fail(const std::string& problem) const { throw std::runtime_error(what_ + " " + problem); }
+
+  private:
+    std::span<const std::byte> bytes_;
+    size_t at_ = 0;
+    std::string what_;
+};
+
+// ---- prediction ------------------------------------------------------------------------------
+// The median edge detector of LOCO-I / JPEG-LS: from the left (a), upper (b) and upper-left (c)
+// neighbours. Its result lies between a and b, so a prediction of int16 values is an int16.
+inline int medPredict(int a, int b, int c) {
+    const int lo = std::min(a, b), hi = std::max(a, b);
+    if (c >= hi) return lo;
+    if (c <= lo) return hi;
+    return a + b - c;
+}
+
+inline int predictAt(const int16_t* v, int x, int y, int w) {
+    const size_t i = static_cast<size_t>(y) * w + x;
+    if (y == 0) return x == 0 ? 0 : v[i - 1];
+    if (x == 0) return v[i - w];
+    return medPredict(v[i - 1], v[i - w], v[i - w - 1]);
+}
+
+// Residuals modulo 2^16, zig-zagged (small magnitudes -> small codes), so the inverse recovers
+// every int16 exactly whatever the residual's size.
+inline uint16_t zigzag(int16_t r) { return static_cast<uint16_t>((static_cast<uint16_t>(r) << 1) ^ static_cast<uint16_t>(r >> 15)); }
+inline int16_t unzigzag(uint16_t z) { return static_cast<int16_t>((z >> 1) ^ (0u - (z & 1u))); }
+
+// Residuals of a plane, appended to `codes` in scan order; with a mask, only where it is 1 (the
+// other values are known to the decoder already and still serve as neighbours).
+void predictPlane(const int16_t* values, int w, int h, const uint8_t* mask, std::vector<uint16_t>& codes) {
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t i = static_cast<size_t>(y) * w + x;
+            if (mask && !mask[i]) continue;
+            codes.push_back(zigzag(static_cast<int16_t>(values[i] - predictAt(values, x, y, w))));
+        }
+}
+
+// The inverse: fills `values` where the mask is 1 (everywhere without one); returns the next code.
+const uint16_t* unpredictPlane(const uint16_t* codes, int w, int h, const uint8_t* mask, int16_t* values) {
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t i = static_cast<size_t>(y) * w + x;
+            if (mask && !mask[i]) continue;
+            values[i] = static_cast<int16_t>(predictAt(values, x, y, w) + unzigzag(*codes++));
+        }
+    return codes;
+}
+
+// Codes as two byte planes (all low bytes, then all high bytes): most high bytes are 0, which
+// zstd then stores as one long run.
+void putShuffled(ByteWriter& out, const std::vector<uint16_t>& codes) {
+    std::byte* p = out.grow(codes.size() * 2);
+    for (size_t i = 0; i < codes.size(); ++i) {
+        p[i] = static_cast<std::byte>(codes[i] & 0xFF);
+        p[codes.size() + i] = static_cast<std::byte>(codes[i] >> 8);
+    }
+}
+
+std::vector<uint16_t> getShuffled(ByteReader& in, size_t count) {
+    const std::byte* p = in.need(count * 2);
+    std::vector<uint16_t> codes(count);
+    for (size_t i = 0; i < count; ++i)
+        codes[i] = static_cast<uint16_t>(static_cast<unsigned>(p[i]) | static_cast<unsigned>(p[count + i]) << 8);
+    return codes;
+}
+
+// ---- ray lattice -----------------------------------------------------------------------------
+// Footprint ray s of pixel p, for n x n cell-centred rays, sits at (px n + s % n, py n + s / n)
+// of a lattice n times finer than the image, so neighbouring rays (of one pixel or of two) are
+// neighbours there. A footprint that is not square keeps one image per ray, stacked.
+struct RayLattice {
+    int width = 0, height = 0;
+    int n = 0;  // rays per axis; 0 = stacked images
+    int image_width = 0, image_height = 0;
+
+    static RayLattice of(const BakeDescription& d) {
+        RayLattice l;
+        l.image_width = d.width;
+        l.image_height = d.height;
+        const int n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(d.footprint_samples))));
+        if (n * n == d.footprint_samples) {
+            l.n = n;
+            l.width = d.width * n;
+            l.height = d.height * n;
+        } else {
+            l.width = d.width;
+            l.height = d.height * d.footprint_samples;
+        }
+        return l;
+    }
+    size_t size() const { return static_cast<size_t>(width) * height; }
+    int samples() const { return n > 0 ? n * n : height / std::max(image_height, 1); }
+    // A per-pixel value on every ray of the pixel.
+    std::vector<uint8_t> spread(const std::vector<uint8_t>& per_pixel) const {
+        std::vector<uint8_t> out(size());
+        for (int s = 0; s < samples(); ++s)
+            for (size_t p = 0; p < per_pixel.size(); ++p) out[at(s, p)] = per_pixel[p];
+        return out;
+    }
+    // Lattice index of ray (sample s, pixel p).
+    size_t at(int s, size_t p) const {
+        if (n == 0) return static_cast<size_t>(s) * image_width * image_height + p;
+        const size_t px = p % image_width, py = p / image_width;
+        return (py * n + s / n) * width + px * n + s % n;
+    }
+};
+
+// Which pixels keep all their footprint rays: those whose alpha, for some look on or between the
+// grid points (every threshold sample, each k axis's samples and their geometric midpoints),
+// differs by more than `tolerance` from the alpha of their mean ray. Elsewhere the footprint
+// is smooth enough that the mean ray stands for it (Jensen's gap, mean e^-tau - e^-mean tau,
+// is second order in the spread of tau).
+class FootprintTest {
+  public:
+    FootprintTest(const BakeDescription& d, double tolerance) : tolerance_(tolerance) {
+        auto withMidpoints = [](const std::vector<double>& axis) {
+            std::vector<double> out;
+            for (size_t i = 0; i < axis.size(); ++i) {
+                out.push_back(axis[i]);
+                if (i + 1 < axis.size()) out.push_back(axis[i] > 0.0 ? std::sqrt(axis[i] * axis[i + 1]) : 0.5 * axis[i + 1]);
+            }
+            return out;
+        };
+        k_s_ = withMidpoints(d.axes.smoke_extinction);
+        k_f_ = withMidpoints(d.axes.flame_extinction);
+    }
+    bool needsRays(const std::vector<double>& o, const std::vector<double>& smoke, double mean_o,
+                   const std::vector<double>& mean_smoke) const {
+        const size_t samples = o.size(), thresholds = mean_smoke.size();
+        bool uniform = true;
+        for (size_t s = 1; s < samples && uniform; ++s) uniform = o[s] == o[0];
+        for (size_t i = thresholds; i < smoke.size() && uniform; ++i) uniform = smoke[i] == smoke[i % thresholds];
+        if (uniform) return false;
+        if (!(tolerance_ > 0.0)) return true;
+        for (size_t j = 0; j < thresholds; ++j)
+            for (double ks : k_s_)
+                for (double kf : k_f_) {
+                    double sum = 0.0;
+                    for (size_t s = 0; s < samples; ++s) sum += std::exp(-(kf * o[s] + (ks - kf) * smoke[s * thresholds + j]));
+                    const double gap = sum / samples - std::exp(-(kf * mean_o + (ks - kf) * mean_smoke[j]));
+                    if (std::abs(gap) > tolerance_) return true;
+                }
+        return false;
+    }
+
+  private:
+    double tolerance_;
+    std::vector<double> k_s_, k_f_;
+};
+
+// Levels of the depth grid, rounded up so that rounding g(O) / step is within half a step even for
+// the deepest rays (the top level may decode to +inf, stored as kLargestDepth).
+double depthLevels(const DepthCompanding& g, double step) { return std::ceil(g.limit() / step); }
+
+}  // namespace
+
+// ---- depth companding ------------------------------------------------------------------------
+// g'(x) = max over k in [k_lo, k_hi] of k e^(-k x): k_hi e^(-k_hi x) below 1/k_hi, 1/(e x) up to
+// 1/k_lo (the maximum is at k = 1/x), k_lo e^(-k_lo x) beyond. Its integral, piece by piece:
+//   x <= 1/k_hi:         1 - e^(-k_hi x)
+//   1/k_hi < x <= 1/k_lo: (1 - 1/e) + ln(k_hi x) / e
+//   x > 1/k_lo:          (1 - 1/e) + ln(k_hi / k_lo) / e + 1/e - e^(-k_lo x)
+// Why this bounds alpha: write tau = k_f O_b + (k_s - k_f) S with S = O_b - F the smoke part.
+// If k_s >= k_f, tau >= k_f O_b and tau >= k_s S, so |d alpha / d O_b| <= k_f e^(-k_f O_b) <=
+// g'(O_b) and |d alpha / d S| <= k_s e^(-k_s S) <= g'(S). If k_s < k_f, tau >= k_s O_b >= k_s S
+// and both derivatives are at most k_f e^(-k_s x) <= (k_f / k_s) g'(x). So a change dg of
+// g(O_b) and of g(S) moves a ray's alpha by at most c (|dg(O_b)| + |dg(S)|) with
+// c = max(1, max k_f / min k_s), and a pixel's alpha (a mean of rays, linear in T_c between the
+// threshold samples) by no more.
+DepthCompanding DepthCompanding::forAxes(const ParameterAxes& axes) {
+    DepthCompanding c;
+    const auto [ks_lo, ks_hi] = std::minmax_element(axes.smoke_extinction.begin(), axes.smoke_extinction.end());
+    const auto [kf_lo, kf_hi] = std::minmax_element(axes.flame_extinction.begin(), axes.flame_extinction.end());
+    c.k_hi = std::max({*ks_hi, *kf_hi, 1e-6});
+    // A zero extinction makes alpha independent of the depth it multiplies; the floor keeps the
+    // companding finite, and for k below it the bound grows by at most k_lo |dO| (negligible).
+    c.k_lo = std::max(std::min(*ks_lo, *kf_lo), c.k_hi * 1e-4);
+    c.k_s_lo = std::max(*ks_lo, c.k_lo);
+    c.k_f_hi = *kf_hi;
+    return c;
+}
+
+double DepthCompanding::limit() const { return 1.0 + std::log(k_hi / k_lo) / M_E; }
+
+double DepthCompanding::alphaFactor() const { return std::max(1.0, k_f_hi / k_s_lo); }
+
+double DepthCompanding::forward(double x) const {
+    if (!(x > 0.0)) return 0.0;
+    if (x <= 1.0 / k_hi) return -std::expm1(-k_hi * x);
+    const double first = 1.0 - 1.0 / M_E;
+    if (x <= 1.0 / k_lo) return first + std::log(k_hi * x) / M_E;
+    return first + std::log(k_hi / k_lo) / M_E + 1.0 / M_E - std::exp(-k_lo * x);
+}
+
+double DepthCompanding::inverse(double y) const {
+    if (!(y > 0.0)) return 0.0;
+    const double first = 1.0 - 1.0 / M_E;
+    if (y <= first) return -std::log1p(-y) / k_hi;
+    const double second = first + std::log(k_hi / k_lo) / M_E;
+    if (y <= second) return std::exp((y - first) * M_E) / k_hi;
+    const double rest = 1.0 / M_E - (y - second);
+    return rest > 0.0 ? -std::log(rest) / k_lo : std::numeric_limits<double>::infinity();
+}
+
+// ---- encoding --------------------------------------------------------------------------------
+EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors& factors,
+                         const FrameCodecSettings& settings) {
+    const size_t pixels = static_cast<size_t>(description.pixelCount());
+    const int rank = factors.rank;
+    const int samples = description.footprint_samples;
+    const size_t thresholds = description.alpha_thresholds.size();
+    const size_t rays = pixels * static_cast<size_t>(std::max(samples, 0));
+    if (factors.pixels != static_cast<int>(pixels) || rank < 0 || factors.u_half.size() != pixels * rank ||
+        factors.svt.size() != static_cast<size_t>(description.columnCount()) * rank || samples < 1 ||
+        thresholds == 0 || factors.depth_density.size() != rays || factors.depth_sigmoid.size() != rays * thresholds)
+        throw std::invalid_argument("frame " + std::to_string(factors.frame) +
+                                    ": factor sizes do not match the description");
+    if (!(settings.alpha_error > 0.0) || !(settings.basis_error > 0.0))
+        throw std::invalid_argument("frame codec: error bounds must be positive");
+    EncodedFrame out;
+
+    // U as W = U S on one grid. S from the rows of S V^T (V is orthonormal).
+    {
+        std::vector<double> sigma(rank, 0.0);
+        for (size_t j = 0; j < static_cast<size_t>(description.columnCount()); ++j)
+            for (int k = 0; k < rank; ++k) sigma[k] += double(factors.svt[j * rank + k]) * factors.svt[j * rank + k];
+        double norm2 = 0.0, largest = 0.0;
+        for (int k = 0; k < rank; ++k) {
+            sigma[k] = std::sqrt(sigma[k]);
+            norm2 += sigma[k] * sigma[k];
+        }
+        std::vector<float> u(factors.u_half.size());
+        for (size_t i = 0; i < u.size(); ++i) {
+            const float v = glm::unpackHalf1x16(factors.u_half[i]);
+            u[i] = std::isfinite(v) ? v : 0.0f;
+            largest = std::max(largest, std::abs(u[i] * sigma[i % std::max(rank, 1)]));
+        }
+        // Uniform rounding adds step^2 / 12 per stored value.
+        double step = kPerFactor * settings.basis_error * std::sqrt(norm2) /
+                      std::sqrt(std::max(1.0, double(pixels) * rank / 12.0));
+        step = std::max(step, largest / 32767.0);  // every value fits an int16
+        if (!(step > 0.0)) step = 1.0;              // rank 0 or an all-zero U
+        out.u_step = step;
+        ByteWriter w;
+        w.put<uint32_t>(kCodecVersion);
+        w.put<uint32_t>(static_cast<uint32_t>(rank));
+        w.put<double>(step);
+        std::vector<float> scale(rank);
+        for (int k = 0; k < rank; ++k) {
+            scale[k] = sigma[k] > 0.0 ? static_cast<float>(step / sigma[k]) : 0.0f;
+            w.put<float>(scale[k]);
+        }
+        std::vector<int16_t> plane(pixels);
+        std::vector<uint16_t> codes;
+        codes.reserve(pixels * rank);
+        double error2 = 0.0;
+        for (int k = 0; k < rank; ++k) {
+            for (size_t p = 0; p < pixels; ++p) {
+                const double wv = double(u[p * rank + k]) * sigma[k];
+                const double q = std::clamp(std::round(wv / step), -32767.0, 32767.0);
+                plane[p] = static_cast<int16_t>(q);
+                error2 += (q * step - wv) * (q * step - wv);
+            }
+            predictPlane(plane.data(), description.width, description.height, nullptr, codes);
+        }
+        out.u_error = norm2 > 0.0 ? std::sqrt(error2 / norm2) : 0.0;
+        putShuffled(w, codes);
+        out.u = w.take();
+    }
+
+    // S V^T on one grid as well: ||dB||_F = ||U dSVT||_F = ||dSVT||_F. Per coefficient k, the
+    // columns form an image of (bins + lights) x grid points, whose neighbours are alike.
+    {
+        const size_t columns = static_cast<size_t>(description.columnCount());
+        double norm2 = 0.0, largest = 0.0;
+        for (float v : factors.svt) {
+            const double x = std::isfinite(v) ? v : 0.0;
+            norm2 += x * x;
+            largest = std::max(largest, std::abs(x));
+        }
+        double step = kPerFactor * settings.basis_error * std::sqrt(norm2) /
+                      std::sqrt(std::max(1.0, double(columns) * rank / 12.0));
+        step = std::max(step, largest / 32767.0);
+        if (!(step > 0.0)) step = 1.0;
+        out.svt_step = step;
+        ByteWriter w;
+        w.put<double>(step);
+        std::vector<int16_t> plane(columns);
+        std::vector<uint16_t> codes;
+        codes.reserve(columns * rank);
+        double error2 = 0.0;
+        for (int k = 0; k < rank; ++k) {
+            for (size_t j = 0; j < columns; ++j) {
+                const float v = factors.svt[j * rank + k];
+                const double x = std::isfinite(v) ? v : 0.0;
+                const double q = std::clamp(std::round(x / step), -32767.0, 32767.0);
+                plane[j] = static_cast<int16_t>(q);
+                error2 += (q * step - x) * (q * step - x);
+            }
+            predictPlane(plane.data(), description.columnsPerPoint(), description.axes.pointCount(), nullptr, codes);
+        }
+        out.svt_error = norm2 > 0.0 ? std::sqrt(error2 / norm2) : 0.0;
+        putShuffled(w, codes);
+        out.svt = w.take();
+    }
+
+    // Depths (see "Optical depths" in docs/package-format.md).
+    {
+        const DepthCompanding g = DepthCompanding::forAxes(description.axes);
+        // c (|dg_O| + |dg_S|) <= c step per ray. A step finer than 2^15 levels allow (an axis
+        // reaching k_s = 0 makes c huge: the flame part then rests on O_b - S alone) takes the
+        // finest grid there is, and the bound reported is what that grid gives.
+        double step = settings.alpha_error / g.alphaFactor();
+        if (depthLevels(g, step) > 32767.0) step = g.limit() / 32767.0;
+        const double levels = depthLevels(g, step);
+        out.alpha_bound = std::min(1.0, step * g.alphaFactor() + std::max(0.0, settings.footprint_error));
+        const RayLattice lattice = RayLattice::of(description);
+        auto quantise = [&](double depth) {
+            return static_cast<int16_t>(std::min(levels, std::round(g.forward(depth) / step)));
+        };
+        // Per ray: O_b (NaN: opaque, as layout 1 did) and the smoke parts S_j = O_b - F_j.
+        auto rayDepths = [&](int s, size_t p, double* smoke) {
+            const double density = factors.depth_density[static_cast<size_t>(s) * pixels + p];
+            const double d = std::isnan(density) ? kLargestDepth : std::clamp(density, 0.0, kLargestDepth);
+            for (size_t j = 0; j < thresholds; ++j) {
+                const double o_a = factors.depth_sigmoid[(static_cast<size_t>(s) * thresholds + j) * pixels + p];
+                smoke[j] = d - (std::isfinite(o_a) ? std::clamp(0.5 * (o_a + d), 0.0, d) : 0.0);
+            }
+            return d;
+        };
+        const FootprintTest footprint(description, settings.footprint_error);
+        // Planes: 0 = q(O_b), 1 = e_0, 1 + j = e_(j-1) - e_j, with e_j = q(O_b) - q(S_j) (0 where no
+        // flame is crossed); for the mean ray of every pixel (image) and for every ray (lattice).
+        const size_t planes = 1 + thresholds;
+        std::vector<int16_t> mean(planes * pixels), rays_q(planes * lattice.size());
+        std::vector<uint8_t> detailed(pixels, 0);
+        std::vector<double> o(samples), smoke(static_cast<size_t>(samples) * thresholds), mean_smoke(thresholds);
+        auto toPlanes = [&](double o_b, const double* s_j, int16_t* dst, size_t stride) {
+            const int16_t qo = quantise(o_b);
+            dst[0] = qo;
+            int16_t previous = 0;
+            for (size_t j = 0; j < thresholds; ++j) {
+                const int16_t e = static_cast<int16_t>(qo - std::min<int>(qo, quantise(s_j[j])));
+                dst[(1 + j) * stride] = j == 0 ? e : static_cast<int16_t>(previous - e);
+                previous = e;
+            }
+        };
+        for (size_t p = 0; p < pixels; ++p) {
+            double mean_o = 0.0;
+            std::fill(mean_smoke.begin(), mean_smoke.end(), 0.0);
+            for (int s = 0; s < samples; ++s) {
+                o[s] = rayDepths(s, p, smoke.data() + static_cast<size_t>(s) * thresholds);
+                mean_o += o[s] / samples;
+                for (size_t j = 0; j < thresholds; ++j) mean_smoke[j] += smoke[s * thresholds + j] / samples;
+            }
+            toPlanes(mean_o, mean_smoke.data(), mean.data() + p, pixels);
+            for (int s = 0; s < samples; ++s)
+                toPlanes(o[s], smoke.data() + static_cast<size_t>(s) * thresholds, rays_q.data() + lattice.at(s, p),
+                         lattice.size());
+            detailed[p] = footprint.needsRays(o, smoke, mean_o, mean_smoke) ? 1 : 0;
+        }
+        ByteWriter w;
+        w.put<uint32_t>(kCodecVersion);
+        w.put<uint32_t>(static_cast<uint32_t>(thresholds));
+        w.put<double>(step);
+        w.put<double>(g.k_lo);
+        w.put<double>(g.k_hi);
+        std::byte* flags = w.grow(pixels);
+        for (size_t p = 0; p < pixels; ++p) flags[p] = static_cast<std::byte>(detailed[p]);
+        // A pixel without detail has all its rays equal to its mean ray.
+        const std::vector<uint8_t> ray_detailed = lattice.spread(detailed);
+        for (size_t i = 0; i < planes; ++i)
+            for (int s = 0; s < samples; ++s)
+                for (size_t p = 0; p < pixels; ++p)
+                    if (!detailed[p]) rays_q[i * lattice.size() + lattice.at(s, p)] = mean[i * pixels + p];
+        std::vector<uint16_t> codes;
+        codes.reserve(planes * pixels);
+        for (size_t i = 0; i < planes; ++i)
+            predictPlane(mean.data() + i * pixels, description.width, description.height, nullptr, codes);
+        for (size_t i = 0; i < planes; ++i)
+            predictPlane(rays_q.data() + i * lattice.size(), lattice.width, lattice.height, ray_detailed.data(), codes);
+        putShuffled(w, codes);
+        out.depths = w.take();
+        out.detailed_pixels = static_cast<size_t>(std::count(detailed.begin(), detailed.end(), uint8_t{1}));
+    }
+    return out;
+}
+
+// ---- decoding --------------------------------------------------------------------------------
+FrameFactors decodeFrame(const BakeDescription& description, int frame, int rank, std::span<const std::byte> u,
+                         std::span<const std::byte> svt, std::span<const std::byte> depths,
+                         const std::string& source) {
+    const std::string where = source + ": frame " + std::to_string(frame);
+    FrameFactors f;
+    f.frame = frame;
+    f.pixels = description.pixelCount();
+    f.columns = description.columnCount();
+    f.rank = rank;
+    const size_t pixels = static_cast<size_t>(f.pixels);
+    const int w = description.width, h = description.height;
+
+    {
+        ByteReader in(u, where + " UFAC section");
+        if (in.get<uint32_t>() != kCodecVersion) in.fail("has an unknown codec version");
+        if (in.get<uint32_t>() != static_cast<uint32_t>(rank)) in.fail("holds another rank than the metadata");
+        const double step = in.get<double>();
+        if (!(step > 0.0) || !std::isfinite(step)) in.fail("has an invalid step");
+        std::vector<float> scale(rank);
+        for (int k = 0; k < rank; ++k) {
+            scale[k] = in.get<float>();
+            if (!std::isfinite(scale[k])) in.fail("has a non-finite scale");
+        }
+        const std::vector<uint16_t> codes = getShuffled(in, pixels * rank);
+        in.expectEnd();
+        f.u_half.resize(pixels * rank);
+        std::vector<int16_t> plane(pixels);
+        for (int k = 0; k < rank; ++k) {
+            unpredictPlane(codes.data() + k * pixels, w, h, nullptr, plane.data());
+            for (size_t p = 0; p < pixels; ++p) f.u_half[p * rank + k] = glm::packHalf1x16(plane[p] * scale[k]);
+        }
+    }
+    {
+        const size_t count = static_cast<size_t>(f.columns) * rank;
+        ByteReader in(svt, where + " SVTF section");
+        const double step = in.get<double>();
+        if (!(step > 0.0) || !std::isfinite(step)) in.fail("has an invalid step");
+        const std::vector<uint16_t> codes = getShuffled(in, count);
+        in.expectEnd();
+        f.svt.resize(count);
+        std::vector<int16_t> plane(f.columns);
+        for (int k = 0; k < rank; ++k) {
+            unpredictPlane(codes.data() + static_cast<size_t>(k) * f.columns, description.columnsPerPoint(),
+                           description.axes.pointCount(), nullptr, plane.data());
+            for (int j = 0; j < f.columns; ++j) f.svt[static_cast<size_t>(j) * rank + k] = static_cast<float>(plane[j] * step);
+        }
+    }
+    {
+        ByteReader in(depths, where + " ODEP section");
+        if (in.get<uint32_t>() != kCodecVersion) in.fail("has an unknown codec version");
+        const size_t thresholds = in.get<uint32_t>();
+        if (thresholds != description.alpha_thresholds.size()) in.fail("holds another threshold count");
+        const double step = in.get<double>();
+        DepthCompanding g;
+        g.k_lo = in.get<double>();
+        g.k_hi = in.get<double>();
+        if (!(step > 0.0) || !(g.k_lo > 0.0) || !(g.k_hi >= g.k_lo) || !std::isfinite(g.k_hi) ||
+            depthLevels(g, step) > 32767.0)
+            in.fail("has an invalid depth quantisation");
+        const RayLattice lattice = RayLattice::of(description);
+        const size_t planes = 1 + thresholds;
+        std::vector<uint8_t> detailed(pixels);
+        const std::byte* flags = in.need(pixels);
+        for (size_t p = 0; p < pixels; ++p) {
+            detailed[p] = static_cast<uint8_t>(flags[p]);
+            if (detailed[p] > 1) in.fail("has an invalid pixel flag");
+        }
+        const std::vector<uint8_t> ray_detailed = lattice.spread(detailed);
+        const size_t detailed_rays = static_cast<size_t>(std::count(ray_detailed.begin(), ray_detailed.end(), uint8_t{1}));
+        const std::vector<uint16_t> codes = getShuffled(in, planes * (pixels + detailed_rays));
+        in.expectEnd();
+        std::vector<int16_t> mean(planes * pixels), rays_q(planes * lattice.size());
+        const uint16_t* next = codes.data();
+        for (size_t i = 0; i < planes; ++i)
+            next = unpredictPlane(next, description.width, description.height, nullptr, mean.data() + i * pixels);
+        const int samples = description.footprint_samples;
+        for (size_t i = 0; i < planes; ++i) {
+            for (int s = 0; s < samples; ++s)
+                for (size_t p = 0; p < pixels; ++p)
+                    if (!detailed[p]) rays_q[i * lattice.size() + lattice.at(s, p)] = mean[i * pixels + p];
+            next = unpredictPlane(next, lattice.width, lattice.height, ray_detailed.data(),
+                                  rays_q.data() + i * lattice.size());
+        }
+        // Decoded depth of every level once (a few thousand levels).
+        const int levels = static_cast<int>(depthLevels(g, step)) + 1;
+        std::vector<float> depth_of(levels);
+        for (int q = 0; q < levels; ++q)
+            depth_of[q] = static_cast<float>(std::min(kLargestDepth, g.inverse(q * step)));
+        auto depth = [&](int q) { return depth_of[std::clamp(q, 0, levels - 1)]; };
+        f.depth_density.resize(pixels * samples);
+        f.depth_sigmoid.resize(pixels * samples * thresholds);
+        for (int s = 0; s < samples; ++s)
+            for (size_t p = 0; p < pixels; ++p) {
+                const size_t at = lattice.at(s, p);
+                const int qo = rays_q[at];
+                const float o_b = depth(qo);
+                f.depth_density[static_cast<size_t>(s) * pixels + p] = o_b;
+                int e = 0;
+                for (size_t j = 0; j < thresholds; ++j) {
+                    const int16_t code = rays_q[(1 + j) * lattice.size() + at];
+                    e = j == 0 ? code : static_cast<int16_t>(e - code);
+                    // O_a = 2 F - O_b = O_b - 2 S.
+                    f.depth_sigmoid[(static_cast<size_t>(s) * thresholds + j) * pixels + p] = o_b - 2.0f * depth(qo - e);
+                }
+            }
+    }
+    return f;
+}
+
+}  // namespace firelook::basis
