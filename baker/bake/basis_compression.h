@@ -1,5 +1,5 @@
 // Per-frame SVD of the basis matrix B (pixels x columns) and the quantised
-// factors stored in the package (DESIGN.md section 2).
+// factors stored in the package (docs/model.md).
 //
 // Method: the Gram matrix B^T B is accumulated in double precision and
 // eigen-decomposed (Eigen's SelfAdjointEigenSolver); V and S come from it and

@@ -1,6 +1,6 @@
 // What `bake` and `reference` share so their images are directly comparable:
 // the sequence, the camera, the lights and the temperature bins, all resolved
-// the same way from the same options (DESIGN.md section 6).
+// the same way from the same options (docs/cli.md).
 #pragma once
 
 #include <array>

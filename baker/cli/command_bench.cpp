@@ -1,8 +1,8 @@
 // firelook bench SEQUENCE --package P [--frames 3,7,11] [--looks 20] [--spp 1024] [--split] [--json OUT]
 //                [--alpha-rays N] [--reference-cache DIR] [--csv FILE --label TEXT]
 //
-// Accuracy of a baked package against the reference path tracer (DESIGN.md
-// section 4): random looks inside the baked ranges — T_c, k_s, k_f between grid
+// Accuracy of a baked package against the reference path tracer (docs/testing.md):
+// random looks inside the baked ranges — T_c, k_s, k_f between grid
 // points and near the ends of every range, varied emissivity and light — each
 // rendered from the package and path-traced at the same parameters. With
 // --split the error is divided by its sources:

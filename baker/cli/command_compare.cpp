@@ -1,5 +1,5 @@
-// firelook compare IMAGE REFERENCE [--json]: the error measures of DESIGN.md
-// section 4 between two images of the same size (relative RMSE over linear RGB,
+// firelook compare IMAGE REFERENCE [--json]: the error measures of docs/testing.md
+// between two images of the same size (relative RMSE over linear RGB,
 // maximum absolute alpha error).
 #include <cstdio>
 

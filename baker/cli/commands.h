@@ -1,6 +1,6 @@
 // Each `firelook` subcommand registers its options on the shared CLI11 app and
 // sets the callback that runs it. Adding a subcommand = one file + one line in
-// main.cpp. DESIGN.md section 6 fixes the command-line surface.
+// main.cpp. docs/cli.md fixes the command-line surface.
 #pragma once
 
 #include <CLI/CLI.hpp>

@@ -58,7 +58,7 @@ class Camera {
     double inverse_width_ = 1.0, inverse_height_ = 1.0;
 };
 
-// DESIGN.md section 6: a camera that looks horizontally at the centre of the world box
+// docs/cli.md: a camera that looks horizontally at the centre of the world box
 // [world_min, world_max] from far enough that the whole box is inside the image, with a margin.
 // Y up: it stands on the +Z side looking down -Z (+X right). Z up (Blender): it stands on the -Y
 // side looking down +Y (+X right), Blender's front view. Throws RenderError for an empty or

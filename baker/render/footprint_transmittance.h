@@ -2,7 +2,7 @@
 // package's alpha against (issue 4's bar; `firelook bench`).
 //
 // A pixel's alpha is the mean over its footprint of 1 - exp(-tau), tau the
-// optical depth of the model (DESIGN.md section 2) along the ray:
+// optical depth of the model (docs/model.md) along the ray:
 //   tau = integral of rho(x) (a f(T(x) - T_c) + b) dx.
 // Marching every ray again for each look is what made the bench slow, so each
 // ray is marched once per frame into a histogram of rho dx over temperature

@@ -9,7 +9,7 @@
 
 namespace firelook::render {
 
-// Evaluates sigma_t and j of DESIGN.md section 1 for interpolated (rho, T). The formulas are those
+// Evaluates sigma_t and j of docs/model.md for interpolated (rho, T). The formulas are those
 // of look_model.h; only the order of work differs (emission uses a recurrence so that all n basis
 // functions cost two exponentials instead of n).
 class LookEvaluator {

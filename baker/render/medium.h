@@ -29,8 +29,8 @@ struct BrickRange {
     float max_temperature = 0.0f;
 };
 
-// Density and temperature stored on a dense index box, with OpenVDB's conventions (DESIGN.md
-// section 1): voxel (i,j,k) sits at index point (i,j,k), values between voxels are interpolated
+// Density and temperature stored on a dense index box, with OpenVDB's conventions (docs/model.md):
+// voxel (i,j,k) sits at index point (i,j,k), values between voxels are interpolated
 // trilinearly, and outside the stored box density is 0 and temperature is the background.
 // The index-to-world map may be any invertible affine map; rays and distances are in world units.
 //

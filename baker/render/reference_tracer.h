@@ -1,5 +1,5 @@
-// The reference: an unbiased volumetric path tracer of exactly the look model (DESIGN.md sections
-// 1 and 4), against which every faster image is measured.
+// The reference: an unbiased volumetric path tracer of exactly the look model (docs/model.md and
+// docs/testing.md), against which every faster image is measured.
 #pragma once
 
 #include <climits>

@@ -1,4 +1,4 @@
-// Rendered RGBA images and the error measures of DESIGN.md section 4.
+// Rendered RGBA images and the error measures of docs/testing.md.
 #pragma once
 
 #include <vector>

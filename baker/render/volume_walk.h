@@ -1,5 +1,5 @@
 // The random-walk core of the path tracers: free-flight sampling, ratio and delta tracking, and the
-// estimator of one camera path. All estimators are unbiased for the model of DESIGN.md section 1.
+// estimator of one camera path. All estimators are unbiased for the model of docs/model.md.
 #pragma once
 
 #include <climits>

@@ -12,8 +12,8 @@
 
 namespace firelook::vdb {
 
-// A sequence of OpenVDB files holding a density and a temperature grid per frame (DESIGN.md
-// section 1 and section 6 "SEQUENCE"). Opening reads only the grid metadata of every file (no
+// A sequence of OpenVDB files holding a density and a temperature grid per frame (docs/model.md
+// and docs/cli.md, "Sequences"). Opening reads only the grid metadata of every file (no
 // voxel data): it resolves the grid names, checks every file holds both grids as float grids,
 // and computes the sequence-wide bounds. load() reads one frame's voxels. The object is immutable
 // after open(), so load() may be called from several threads at once.

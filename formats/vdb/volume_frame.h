@@ -31,7 +31,7 @@ struct CleanedValues {
     bool any() const { return nan + inf + negative + clamped > 0; }
 };
 
-// One loaded frame. Conventions (DESIGN.md section 1):
+// One loaded frame. Conventions (docs/model.md):
 // - voxel (i,j,k) sits at index point (i,j,k) (OpenVDB's convention), values between voxels are
 //   interpolated trilinearly, and outside the active voxels each grid reads its background;
 // - the temperature grid already holds mapped temperatures T = scale * raw + offset (its

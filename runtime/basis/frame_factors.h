@@ -1,4 +1,4 @@
-// The compressed basis of one frame (DESIGN.md section 2):
+// The compressed basis of one frame (docs/model.md):
 //   B ~= U (S V^T)   with B = pixels x columns, U = pixels x rank,
 // plus the per-pixel optical depths that give exact alpha for any (k_s, k_f).
 #pragma once

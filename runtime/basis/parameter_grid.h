@@ -1,6 +1,6 @@
 // The sampled extinction parameters theta = (T_c, k_s, k_f) of a bake, and the
 // interpolation weights that blend basis images between grid points
-// (DESIGN.md section 2). An axis with one value is "collapsed": that parameter
+// (docs/model.md). An axis with one value is "collapsed": that parameter
 // was fixed at bake time and any request for it uses the baked value.
 #pragma once
 

@@ -1,6 +1,6 @@
 // From a look to an image: the per-frame coefficient vectors z = S V^T w and
 // the reconstruction image = U z, with alpha from the exact optical depths
-// (DESIGN.md section 2). This is the runtime's hot path: no allocation here.
+// (docs/model.md). This is the runtime's hot path: no allocation here.
 #pragma once
 
 #include <span>

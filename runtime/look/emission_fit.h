@@ -1,5 +1,5 @@
 // Fitting the emission coefficients c_i of L_e(T) = sum_i c_i phi((T - T_i)/dT)
-// to the user's per-bin emissivity (DESIGN.md section 1), and measuring how
+// to the user's per-bin emissivity (docs/model.md), and measuring how
 // well a given RBF width behaves.
 #pragma once
 

@@ -1,5 +1,5 @@
-// The user-facing look: the few parameters an artist edits (DESIGN.md section 1)
-// and the look file that stores them (DESIGN.md section 6).
+// The user-facing look: the few parameters an artist edits (docs/model.md)
+// and the look file that stores them (docs/model.md, "The look file").
 //
 // A Look is what the user wrote, in the data's temperature units; a LookModel
 // (look_model.h) is the same look resolved against a package's temperature
@@ -73,7 +73,7 @@ Look defaultLook();
 void validateLook(const Look& look);
 
 // Reads a look file's text. `source_name` (usually the path) prefixes every
-// error. Every key shown in DESIGN.md section 6 is required except the preset's
+// error. Every key shown in docs/model.md, "The look file", is required except the preset's
 // "scale" (default 1); unknown keys are ignored.
 Look parseLook(std::string_view json, const std::string& source_name);
 Look loadLook(const std::filesystem::path& path);

@@ -1,4 +1,4 @@
-// The look file (DESIGN.md section 6): reading, writing, loading and saving.
+// The look file (docs/model.md, "The look file"): reading, writing, loading and saving.
 #include <charconv>
 #include <fstream>
 #include <nlohmann/json.hpp>

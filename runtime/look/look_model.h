@@ -1,4 +1,4 @@
-// The look model every FireLook module shares (DESIGN.md section 1).
+// The look model every FireLook module shares (docs/model.md).
 //
 // This header is the single definition of what a voxel's temperature and
 // density mean for extinction and emission. It is deliberately small and
@@ -43,7 +43,7 @@ struct ExtinctionParams {
     double smoke_extinction = 1.0;       // k_s
     double flame_extinction = 1.0;       // k_f
 
-    // Optical depth along a path is a * o_a(T_c) + b * o_b (DESIGN.md section 2).
+    // Optical depth along a path is a * o_a(T_c) + b * o_b (docs/model.md).
     double a() const { return 0.5 * (flame_extinction - smoke_extinction); }
     double b() const { return 0.5 * (flame_extinction + smoke_extinction); }
 };

@@ -1,4 +1,4 @@
-// The per-instance hot path: z = S V^T w (DESIGN.md section 2), the same
+// The per-instance hot path: z = S V^T w (docs/model.md), the same
 // result as basis::computeCoefficients() (summation order aside: the sums run
 // per channel into separate arrays so the loop over the rank vectorises), with
 // no checks and no allocation. The caller (World) validated the shapes once.

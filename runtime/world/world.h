@@ -1,5 +1,5 @@
 // The runtime world: many fire instances, each playing a package with a
-// keyframed look, updated together by one update(dt) (DESIGN.md sections 2-3).
+// keyframed look, updated together by one update(dt) (docs/model.md).
 //
 // Data-oriented: per-instance state lives in structure-of-arrays (dense, one
 // entry per live instance, swap-removed on destroy); update() runs systems

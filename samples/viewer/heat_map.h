@@ -1,5 +1,5 @@
 // QA measures between the real-time image and the reference, defined exactly as `firelook compare`
-// does (render::relativeRmse and render::maxAlphaError, DESIGN.md section 4):
+// does (render::relativeRmse and render::maxAlphaError, docs/testing.md):
 //   relative RMSE = sqrt(sum over pixels and RGB of (I - R)^2 / sum of R^2), linear premultiplied;
 //   max alpha error = max over pixels of |alpha_I - alpha_R|.
 // The heat map shows where the error is: per pixel e = sqrt(mean over RGB of (I - R)^2) divided by

@@ -1,4 +1,4 @@
-// The look as the viewer edits it: the fields of a firelook-look document (DESIGN.md section 6) in
+// The look as the viewer edits it: the fields of a firelook-look document (docs/model.md, "The look file") in
 // plain editable form. The C API has no look accessors, only JSON in and out, so the viewer keeps
 // this struct and turns it into JSON (then an fl_look) whenever it changes.
 #pragma once

@@ -1,4 +1,4 @@
-// DESIGN.md section 5's hard cases through the basis tracer, compression and recombination: empty
+// the hard cases of docs/testing.md through the basis tracer, compression and recombination: empty
 // frames, all smoke, all flame, k_s or k_f = 0, huge extinction, dirty grids, cameras looking away
 // or sitting inside the volume. None may crash or produce NaN.
 #include <gtest/gtest.h>

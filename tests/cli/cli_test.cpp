@@ -1,4 +1,4 @@
-// End-to-end tests of the `firelook` executable (DESIGN.md section 6). Each test runs the built
+// End-to-end tests of the `firelook` executable (docs/cli.md). Each test runs the built
 // program through the shell in its own temporary folder and checks the exit status, the output
 // and the files left behind. Bakes are tiny: frame 1 of the sample, 16x16, a few thousand photons.
 #include <gtest/gtest.h>
@@ -21,7 +21,7 @@ namespace {
 using namespace firelook::testing;  // TempDir, runFirelook, readFile, lines, kTinyBakeConfig
 using nlohmann::json;
 
-// DESIGN.md section 6: a failure is a non-zero exit with a one-line error on stderr.
+// docs/cli.md: a failure is a non-zero exit with a one-line error on stderr.
 void expectOneLineError(const CommandResult& r, const std::string& mentions) {
     EXPECT_NE(r.exit_code, 0) << r.out << r.err;
     const std::vector<std::string> err = lines(r.err);
@@ -141,6 +141,52 @@ TEST(Cli, BakeInfoRender) {
     r = runFirelook(dir, "render pkg.firelook --frame 2 --out b.exr");
     expectOneLineError(r, "frame 2");
     EXPECT_FALSE(std::filesystem::exists(dir / "b.exr"));
+}
+
+// repack stores the frames again at the precision asked for (recorded in the metadata), info
+// sums the stored bytes by kind and per frame, and the repacked package renders within the bound
+// the codec reports; a coarser alpha error gives a package no larger.
+TEST(Cli, RepackAndBytesPerFrame) {
+    TempDir dir;
+    bakeTiny(dir);
+    CommandResult r = runFirelook(dir, "repack pkg.firelook -o coarse.firelook --alpha-error 0.004 --footprint-error 0.004");
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    r = runFirelook(dir, "info --json coarse.firelook");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json coarse = json::parse(r.out);
+    const json& repacked = coarse.at("metadata").at("repacked");
+    EXPECT_EQ(repacked.at("from_layout"), 2);
+    EXPECT_EQ(repacked.at("alpha_error"), 0.004);
+    EXPECT_DOUBLE_EQ(repacked.at("frames")[0].at("alpha_storage_error_bound").get<double>(), 0.008);
+    EXPECT_EQ(coarse.at("metadata").at("version"), 2);
+    r = runFirelook(dir, "info --json pkg.firelook");
+    const json fine = json::parse(r.out);
+    ASSERT_EQ(fine.at("bytes_by_frame").size(), 1u);
+    uint64_t sections = 0;
+    for (const json& s : fine.at("sections"))
+        if (!s.at("frame").is_null()) sections += s.at("stored_bytes").get<uint64_t>();
+    EXPECT_EQ(fine.at("bytes_by_frame")[0].at("stored_bytes").get<uint64_t>(), sections);
+    EXPECT_EQ(fine.at("bytes_by_kind").at("ODEP").get<uint64_t>() + fine.at("bytes_by_kind").at("UFAC").get<uint64_t>() +
+                  fine.at("bytes_by_kind").at("SVTF").get<uint64_t>(),
+              sections);
+    EXPECT_LE(coarse.at("bytes_by_kind").at("ODEP").get<uint64_t>(), fine.at("bytes_by_kind").at("ODEP").get<uint64_t>());
+    r = runFirelook(dir, "info pkg.firelook");
+    EXPECT_NE(r.out.find("stored bytes per frame: mean"), std::string::npos) << r.out;
+
+    ASSERT_EQ(runFirelook(dir, "render pkg.firelook --frame 1 --out a.exr").exit_code, 0);
+    ASSERT_EQ(runFirelook(dir, "render coarse.firelook --frame 1 --out b.exr").exit_code, 0);
+    const firelook::image::ImageRGBA a = firelook::image::readImage(dir / "a.exr");
+    const firelook::image::ImageRGBA b = firelook::image::readImage(dir / "b.exr");
+    ASSERT_EQ(a.pixels.size(), b.pixels.size());
+    double worst = 0.0;
+    for (size_t i = 3; i < a.pixels.size(); i += 4) worst = std::max(worst, double(std::abs(a.pixels[i] - b.pixels[i])));
+    // Both stored from the same rays: the second quantisation adds at most its own bound (0.008),
+    // plus the first package's (0.002) against which it was taken, and half-float rounding in EXR.
+    EXPECT_LE(worst, 0.008 + 0.002 + 1e-3);
+
+    r = runFirelook(dir, "repack missing.firelook -o x.firelook");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_FALSE(std::filesystem::exists(dir / "x.firelook"));
 }
 
 TEST(Cli, RenderWithAnotherAlbedoFails) {

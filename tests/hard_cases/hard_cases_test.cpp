@@ -1,4 +1,4 @@
-// DESIGN.md section 5's hard cases across the whole pipeline: tiny VDB files written here with
+// the hard cases of docs/testing.md across the whole pipeline: tiny VDB files written here with
 // OpenVDB -> firelook::bake::bakePackage -> BasisPackage::open / loadFrame -> renderLookImage.
 // (tests/bake/hard_cases_test.cpp covers the same cases at the tracer level, without files.)
 //

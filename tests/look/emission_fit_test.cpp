@@ -126,7 +126,7 @@ TEST(FitEmissionCoefficients, RejectsBadInput) {
 }
 
 TEST(AnalyzeEmissionFit, MatchesTheFiguresInTheDesignNote) {
-    // DESIGN.md section 1 quotes, for 16 bins: w = 0.7 condition 1.7, w = 0.9
+    // docs/model.md quotes, for 16 bins: w = 0.7 condition 1.7, w = 0.9
     // condition 3.6 and 0.15% ripple, ~11% step undershoot; rounded as quoted.
     const EmissionFitReport narrow = analyzeEmissionFit(16, 0.7);
     const EmissionFitReport wide = analyzeEmissionFit(16, 0.9);

@@ -40,7 +40,7 @@ render::Medium syntheticExplosion() {
     return render::Medium(glm::ivec3(0), glm::ivec3(kN), density, temperature, index_to_world, 0.0f);
 }
 
-// DESIGN.md's example look: T_c 1.4, k_s 6, k_f 1.5, albedo 0.8, emission rising with T.
+// docs/model.md's example look: T_c 1.4, k_s 6, k_f 1.5, albedo 0.8, emission rising with T.
 LookModel exampleLook() {
     LookModel look;
     look.bins = TemperatureBins{0.0, 2.0, 16};

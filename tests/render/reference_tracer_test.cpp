@@ -1,4 +1,4 @@
-// The reference path tracer against closed forms of the model (DESIGN.md sections 1, 4, 5).
+// The reference path tracer against closed forms of the model (docs/model.md, docs/testing.md).
 //
 // Tolerances: every pixel's mean must lie within 6 standard errors of the exact value, and the sum
 // over all pixels within 4 standard errors of the exact sum (pixels are independent, so its

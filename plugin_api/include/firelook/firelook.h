@@ -230,7 +230,7 @@ FIRELOOK_API fl_result fl_package_get_frame_depths(fl_package package, int32_t f
 
 /* ---- looks -------------------------------------------------------------- */
 
-/* Thread-safe. json: a firelook-look document (docs in DESIGN.md section 6); length 0 = NUL-terminated.
+/* Thread-safe. json: a firelook-look document (docs/model.md, "The look file"); length 0 = NUL-terminated.
    source_name (may be null) prefixes error messages. Looks are checked against a package when used. */
 FIRELOOK_API fl_result fl_look_from_json(const char* json, size_t length, const char* source_name, fl_look* out_look);
 FIRELOOK_API fl_result fl_package_default_look(fl_package package, fl_look* out_look);
