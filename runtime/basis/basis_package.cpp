@@ -46,11 +46,7 @@ std::vector<std::byte> readSection(const package::PackageReader& reader, uint32_
 // F = (O_a + O_b) / 2.
 FrameFactors loadLayout1(const package::PackageReader& reader, const BakeDescription& description, int frame,
                          int rank) {
-    FrameFactors f;
-    f.frame = frame;
-    f.pixels = description.pixelCount();
-    f.columns = description.columnCount();
-    f.rank = rank;
+    FrameFactors f = emptyFrameFactors(description, frame, rank);
     const size_t pixels = static_cast<size_t>(f.pixels);
     f.u_half = readArray<uint16_t>(reader, kSectionU, frame, pixels * f.rank);
     f.svt = readArray<float>(reader, kSectionSVt, frame, static_cast<size_t>(f.columns) * f.rank);

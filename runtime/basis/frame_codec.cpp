@@ -210,6 +210,21 @@ class FootprintTest {
     std::vector<double> k_s_, k_f_;
 };
 
+// The step of a uniform grid on which rounding `count` values adds a Frobenius error of about
+// `target` (step^2 / 12 per value), coarsened so that the largest value fits an int16.
+double uniformGridStep(double target, double count, double largest) {
+    double step = target / std::sqrt(std::max(1.0, count / 12.0));
+    step = std::max(step, largest / 32767.0);
+    return step > 0.0 ? step : 1.0;  // nothing to store: any step
+}
+
+// x on that grid, adding its squared rounding error to `error2`.
+int16_t onGrid(double x, double step, double& error2) {
+    const double q = std::clamp(std::round(x / step), -32767.0, 32767.0);
+    error2 += (q * step - x) * (q * step - x);
+    return static_cast<int16_t>(q);
+}
+
 // Levels of the depth grid, rounded up so that rounding g(O) / step is within half a step even for
 // the deepest rays (the top level may decode to +inf, stored as kLargestDepth).
 double depthLevels(const DepthCompanding& g, double step) { return std::ceil(g.limit() / step); }
@@ -297,11 +312,8 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
             u[i] = std::isfinite(v) ? v : 0.0f;
             largest = std::max(largest, std::abs(u[i] * sigma[i % std::max(rank, 1)]));
         }
-        // Uniform rounding adds step^2 / 12 per stored value.
-        double step = kPerFactor * settings.basis_error * std::sqrt(norm2) /
-                      std::sqrt(std::max(1.0, double(pixels) * rank / 12.0));
-        step = std::max(step, largest / 32767.0);  // every value fits an int16
-        if (!(step > 0.0)) step = 1.0;              // rank 0 or an all-zero U
+        const double step =
+            uniformGridStep(kPerFactor * settings.basis_error * std::sqrt(norm2), double(pixels) * rank, largest);
         out.u_step = step;
         ByteWriter w;
         w.put<uint32_t>(kCodecVersion);
@@ -317,12 +329,7 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
         codes.reserve(pixels * rank);
         double error2 = 0.0;
         for (int k = 0; k < rank; ++k) {
-            for (size_t p = 0; p < pixels; ++p) {
-                const double wv = double(u[p * rank + k]) * sigma[k];
-                const double q = std::clamp(std::round(wv / step), -32767.0, 32767.0);
-                plane[p] = static_cast<int16_t>(q);
-                error2 += (q * step - wv) * (q * step - wv);
-            }
+            for (size_t p = 0; p < pixels; ++p) plane[p] = onGrid(double(u[p * rank + k]) * sigma[k], step, error2);
             predictPlane(plane.data(), description.width, description.height, nullptr, codes);
         }
         out.u_error = norm2 > 0.0 ? std::sqrt(error2 / norm2) : 0.0;
@@ -340,10 +347,8 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
             norm2 += x * x;
             largest = std::max(largest, std::abs(x));
         }
-        double step = kPerFactor * settings.basis_error * std::sqrt(norm2) /
-                      std::sqrt(std::max(1.0, double(columns) * rank / 12.0));
-        step = std::max(step, largest / 32767.0);
-        if (!(step > 0.0)) step = 1.0;
+        const double step =
+            uniformGridStep(kPerFactor * settings.basis_error * std::sqrt(norm2), double(columns) * rank, largest);
         out.svt_step = step;
         ByteWriter w;
         w.put<double>(step);
@@ -354,10 +359,7 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
         for (int k = 0; k < rank; ++k) {
             for (size_t j = 0; j < columns; ++j) {
                 const float v = factors.svt[j * rank + k];
-                const double x = std::isfinite(v) ? v : 0.0;
-                const double q = std::clamp(std::round(x / step), -32767.0, 32767.0);
-                plane[j] = static_cast<int16_t>(q);
-                error2 += (q * step - x) * (q * step - x);
+                plane[j] = onGrid(std::isfinite(v) ? v : 0.0, step, error2);
             }
             predictPlane(plane.data(), description.columnsPerPoint(), description.axes.pointCount(), nullptr, codes);
         }
@@ -448,16 +450,21 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
     return out;
 }
 
-// ---- decoding --------------------------------------------------------------------------------
-FrameFactors decodeFrame(const BakeDescription& description, int frame, int rank, std::span<const std::byte> u,
-                         std::span<const std::byte> svt, std::span<const std::byte> depths,
-                         const std::string& source) {
-    const std::string where = source + ": frame " + std::to_string(frame);
+FrameFactors emptyFrameFactors(const BakeDescription& description, int frame, int rank) {
     FrameFactors f;
     f.frame = frame;
     f.pixels = description.pixelCount();
     f.columns = description.columnCount();
     f.rank = rank;
+    return f;
+}
+
+// ---- decoding --------------------------------------------------------------------------------
+FrameFactors decodeFrame(const BakeDescription& description, int frame, int rank, std::span<const std::byte> u,
+                         std::span<const std::byte> svt, std::span<const std::byte> depths,
+                         const std::string& source) {
+    const std::string where = source + ": frame " + std::to_string(frame);
+    FrameFactors f = emptyFrameFactors(description, frame, rank);
     const size_t pixels = static_cast<size_t>(f.pixels);
     const int w = description.width, h = description.height;
 

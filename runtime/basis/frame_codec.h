@@ -56,6 +56,9 @@ struct EncodedFrame {
 EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors& factors,
                          const FrameCodecSettings& settings);
 
+// A frame's sizes as the description gives them, with no values yet (what a reader fills in).
+FrameFactors emptyFrameFactors(const BakeDescription& description, int frame, int rank);
+
 // Throws std::runtime_error (naming `source` and the frame) when a payload does not match the
 // description or is damaged.
 FrameFactors decodeFrame(const BakeDescription& description, int frame, int rank, std::span<const std::byte> u,

@@ -15,6 +15,7 @@
 #include "basis/recombine.h"
 #include "package/error.h"
 #include "../support/temp_dir.h"
+#include "../world/synthetic_package.h"
 
 namespace firelook::basis {
 namespace {
@@ -124,14 +125,7 @@ TEST(BasisPackage, ReadsLayout1) {
     const BakeDescription& d = package.description();
     ASSERT_EQ(d.frames.size(), 2u);
     uint64_t state = 7 * 1000003ull + 1;  // syntheticFrame's generator for frame 1
-    auto next = [&state] {
-        state += 0x9E3779B97F4A7C15ull;
-        uint64_t z = state;
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        z ^= z >> 31;
-        return static_cast<float>((z >> 40) * (1.0 / 16777216.0));
-    };
+    auto next = [&state] { return firelook::testing::syntheticValue(state); };
     const FrameFactors f = package.loadFrame(1);
     ASSERT_EQ(f.rank, 4);
     for (uint16_t u : f.u_half) EXPECT_EQ(u, glm::packHalf1x16(next() - 0.5f));
