@@ -1,4 +1,4 @@
-// firelook animate PACKAGE --key F:LOOK.json [--key ...] --out-dir DIR
+// firelook animate PACKAGE --key F:LOOK.json [--key ...] -o DIR
 // Renders every frame of a package with a look keyframed across the sequence:
 // at each frame the look is interpolated linearly between the surrounding keys
 // (the paper's figure 1), held constant before the first and after the last.
@@ -16,9 +16,11 @@
 #include "basis/look_renderer.h"
 #include "cli/commands.h"
 #include "cli/interrupt.h"
+#include "cli/output_option.h"
 #include "cli/progress_bar.h"
 #include "image/contact_sheet.h"
 #include "image/image_io.h"
+#include "world/keyframe_bracket.h"
 
 namespace firelook::cli {
 namespace {
@@ -75,13 +77,11 @@ class StagingFolder {
     bool created_out_dir_ = false, committed_ = false;
 };
 
+// The keys bracket as the runtime's keyframes do (runtime/world/keyframe_bracket.h).
 Look lookAtFrame(const std::vector<LookKey>& keys, int frame, const TemperatureBins& bins) {
-    if (frame <= keys.front().frame) return keys.front().look;
-    if (frame >= keys.back().frame) return keys.back().look;
-    const auto next = std::find_if(keys.begin(), keys.end(), [&](const LookKey& k) { return k.frame > frame; });
-    const LookKey& a = *(next - 1);
-    const LookKey& b = *next;
-    return interpolateLooks(a.look, b.look, double(frame - a.frame) / double(b.frame - a.frame), bins);
+    const runtime::KeyframeBracket bracket = runtime::bracketKeyframes(keys, frame);
+    if (bracket.lo == bracket.hi) return keys[bracket.lo].look;
+    return interpolateLooks(keys[bracket.lo].look, keys[bracket.hi].look, bracket.t, bins);
 }
 
 }  // namespace
@@ -98,7 +98,7 @@ void registerAnimateCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("animate", "Render every frame with looks keyframed across the sequence");
     cmd->add_option("PACKAGE", args->package, ".firelook package")->required()->check(CLI::ExistingFile);
     cmd->add_option("--key", args->keys, "keyframe FRAME:LOOK.json (repeat; linear in between)")->required();
-    cmd->add_option("--out-dir", args->out_dir, "output folder (created)")->required();
+    addOutputOption(*cmd, args->out_dir, "output folder (created)", {"--out-dir"})->required();
     cmd->add_option("--exposure", args->exposure, "PNG exposure in stops")->capture_default_str();
     cmd->add_option("--columns", args->columns, "contact sheet columns")->check(CLI::Range(1, 64))->capture_default_str();
     cmd->add_flag("--exr", args->exr, "also write linear premultiplied EXR frames");
@@ -121,9 +121,9 @@ void registerAnimateCommand(CLI::App& app) {
         for (size_t n = 0; n < d.frames.size(); ++n) {
             throwIfInterrupted();
             const int frame = d.frames[n].frame;
-            const basis::FrameFactors factors = package.loadFrame(frame);
+            const basis::ResidentFrame resident = package.loadResidentFrame(frame, std::pmr::get_default_resource());
             image::ImageRGBA image(d.width, d.height);
-            basis::renderLookImage(d, factors, basis::decodeU(factors), lookAtFrame(keys, frame, d.bins), image.pixels);
+            basis::renderLookImage(d, resident, lookAtFrame(keys, frame, d.bins), image.pixels);
             char name[32];
             std::snprintf(name, sizeof name, "frame_%04d", frame);
             image::writeImage(staging / (std::string(name) + ".png"), image, png);

@@ -7,6 +7,7 @@
 #include "common/atomic_file.h"
 #include "cli/commands.h"
 #include "cli/interrupt.h"
+#include "cli/output_option.h"
 #include "cli/progress_bar.h"
 #include "cli/scene_options.h"
 #include "cli/version.h"
@@ -59,7 +60,7 @@ void registerBakeCommand(CLI::App& app) {
     auto args = std::make_shared<Args>();
     CLI::App* cmd = app.add_subcommand("bake", "Bake a VDB sequence into a .firelook package of compressed basis images");
     cmd->add_option("SEQUENCE", args->sequence, "folder of .vdb files or a pattern such as fire_####.vdb")->required();
-    cmd->add_option("-o,--output", args->output, "output package (.firelook)")->required();
+    addOutputOption(*cmd, args->output, "output package (.firelook)", {"--output"})->required();
     cmd->add_option("--frames", args->frames, "frames: A-B ranges and single frames, comma-separated (numbers from the file names)");
     cmd->add_option("--seed", args->seed, "random seed: the same seed gives the same bytes")->capture_default_str();
     cmd->add_option("--report", args->report_json,

@@ -1,4 +1,4 @@
-// firelook bench SEQUENCE --package P [--frames 3,7,11] [--looks 20] [--spp 1024] [--split] [--json OUT]
+// firelook bench SEQUENCE --package P [--frames 3,7,11] [--looks 20] [--spp 1024] [--split] [-o OUT.json]
 //                [--alpha-rays N] [--reference-cache DIR] [--csv FILE --label TEXT]
 //
 // Accuracy of a baked package against the reference path tracer (docs/testing.md):
@@ -27,6 +27,7 @@
 #include "basis/recombine.h"
 #include "cli/commands.h"
 #include "cli/interrupt.h"
+#include "cli/output_option.h"
 #include "cli/progress_bar.h"
 #include "cli/sequence_options.h"
 #include "render/random.h"
@@ -80,7 +81,7 @@ render::RenderImage toImage(const basis::BakeDescription& d, std::vector<float> 
 
 // The image of a look from an uncompressed basis matrix (pixels x points*C) with
 // grid weights, alpha from the package's exact depths.
-std::vector<float> imageFromBasis(const basis::BakeDescription& d, const basis::FrameFactors& factors,
+std::vector<float> imageFromBasis(const basis::BakeDescription& d, const basis::ResidentFrame& factors,
                                   const bake::FrameBasis& b, const basis::ParameterAxes& axes, const Look& look,
                                   const LookModel& model) {
     const basis::GridWeights grid = basis::interpolationWeights(axes, look.extinction());
@@ -221,7 +222,7 @@ void registerBenchCommand(CLI::App& app) {
     cmd->add_option("--spp", args->spp, "reference samples per pixel")->capture_default_str();
     cmd->add_option("--seed", args->seed, "seed for the looks and the reference")->capture_default_str();
     cmd->add_flag("--split", args->split, "split the error by source (re-traces each frame's basis)");
-    cmd->add_option("--json", args->json_out, "write every figure as JSON to this file");
+    addOutputOption(*cmd, args->json_out, "write every figure as JSON to this file", {"--json"});
     cmd->add_option("--alpha-rays", args->alpha_rays,
                     "rays per pixel along each axis of the exact alpha the package is judged against")
         ->capture_default_str()
@@ -278,8 +279,8 @@ void registerBenchCommand(CLI::App& app) {
             // Built on the first look whose exact alpha is not cached: marching 8x8 rays per
             // pixel is the slow part of a cached bench run.
             std::optional<render::FootprintTransmittance> exact_alpha;
-            const basis::FrameFactors factors = package.loadFrame(frame);
-            const std::vector<float> u = basis::decodeU(factors);
+            // The resident form: what the runtime world draws.
+            const basis::ResidentFrame factors = package.loadResidentFrame(frame, std::pmr::get_default_resource());
             bake::FrameBasis full;
             bake::TraceSettings frame_trace = trace;
             frame_trace.seed = bake_seed * 1000003ULL + static_cast<uint64_t>(frame);  // as bakePackage seeds it
@@ -303,7 +304,7 @@ void registerBenchCommand(CLI::App& app) {
                 }
                 coeff_us.push_back(median(us));
                 const auto t0 = std::chrono::steady_clock::now();
-                basis::renderLookImage(d, factors, u, look, rgba);
+                basis::renderLookImage(d, factors, look, rgba);
                 image_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
 
                 render::ReferenceSettings rs;

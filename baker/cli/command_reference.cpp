@@ -1,5 +1,5 @@
 // firelook reference SEQUENCE --frame F [--look L.json] [--scene S.gltf | --camera ...]
-//                    [--size WxH] --spp N --out IMG
+//                    [--size WxH] --spp N -o IMG
 // Path-traced ground truth of exactly the model a bake with the same flags uses
 // (same bins, camera and lights; without --look, the same default look).
 #include <cstdio>
@@ -7,6 +7,7 @@
 #include "bake/bake_pipeline.h"
 #include "cli/commands.h"
 #include "cli/interrupt.h"
+#include "cli/output_option.h"
 #include "cli/progress_bar.h"
 #include "cli/scene_options.h"
 #include "image/image_io.h"
@@ -30,7 +31,7 @@ void registerReferenceCommand(CLI::App& app) {
         ->check(CLI::ExistingFile);
     cmd->add_option("--spp", args->spp, "samples per pixel")->required()->check(CLI::Range(1, 1 << 20));
     cmd->add_option("--seed", args->seed, "random seed")->capture_default_str();
-    cmd->add_option("--out", args->out, "output image (.exr or .png)")->required();
+    addOutputOption(*cmd, args->out, "output image (.exr or .png)")->required();
     addSceneFlags(*cmd, args->scene);
     cmd->callback([cmd, args] {
         const bake::BakeConfig config = makeBakeConfig(*cmd, args->scene);
@@ -53,7 +54,7 @@ void registerReferenceCommand(CLI::App& app) {
                 bar.update(fraction, std::to_string(args->spp) + " spp");
                 return !interruptRequested();
             });
-        throwIfInterrupted();  // before anything is written: an existing --out keeps its bytes
+        throwIfInterrupted();  // before anything is written: an existing output keeps its bytes
         bar.finish();
         image::ImageRGBA image(result.image.width, result.image.height);
         image.pixels = result.image.rgba;

@@ -1,10 +1,11 @@
-// firelook render PACKAGE --frame F [--look L.json] --out IMG (.exr or .png)
+// firelook render PACKAGE --frame F [--look L.json] -o IMG (.exr or .png)
 #include <cstdio>
 
 #include "basis/basis_package.h"
 #include "basis/look_renderer.h"
 #include "cli/commands.h"
 #include "cli/interrupt.h"
+#include "cli/output_option.h"
 #include "image/image_io.h"
 #include "look/look.h"
 
@@ -22,22 +23,23 @@ void registerRenderCommand(CLI::App& app) {
     cmd->add_option("--frame", args->frame, "frame number")->required();
     cmd->add_option("--look", args->look, "look file (default: the look recorded in the package)")
         ->check(CLI::ExistingFile);
-    cmd->add_option("--out", args->out, "output image, .exr (linear premultiplied RGBA) or .png")->required();
+    addOutputOption(*cmd, args->out, "output image, .exr (linear premultiplied RGBA) or .png")->required();
     cmd->add_option("--exposure", args->exposure, "PNG exposure in stops")->capture_default_str();
     cmd->callback([args] {
         const basis::BasisPackage package = basis::BasisPackage::open(args->package);
         const basis::BakeDescription& d = package.description();
         const Look look = args->look.empty() ? parseLook(d.default_look_json, args->package + " (default look)")
                                              : loadLook(args->look);
-        const basis::FrameFactors factors = package.loadFrame(args->frame);
+        // The resident form, as the runtime world draws it.
+        const basis::ResidentFrame frame = package.loadResidentFrame(args->frame, std::pmr::get_default_resource());
         image::ImageRGBA image(d.width, d.height);
-        basis::renderLookImage(d, factors, basis::decodeU(factors), look, image.pixels);
+        basis::renderLookImage(d, frame, look, image.pixels);
         image::WriteOptions options;
         options.png_exposure_stops = args->exposure;
         throwIfInterrupted();
         image::writeImage(args->out, image, options);
         std::printf("wrote %s (%dx%d, frame %d, rank %d)\n", args->out.c_str(), d.width, d.height, args->frame,
-                    factors.rank);
+                    frame.rank);
     });
 }
 

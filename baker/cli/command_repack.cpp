@@ -9,6 +9,7 @@
 #include "basis/basis_package.h"
 #include "cli/commands.h"
 #include "cli/interrupt.h"
+#include "cli/output_option.h"
 #include "cli/progress_bar.h"
 
 namespace firelook::cli {
@@ -21,7 +22,7 @@ void registerRepackCommand(CLI::App& app) {
     auto args = std::make_shared<Args>();
     CLI::App* cmd = app.add_subcommand("repack", "Store a package's frames again at another precision (no baking)");
     cmd->add_option("PACKAGE", args->input, "input .firelook")->required()->check(CLI::ExistingFile);
-    cmd->add_option("-o,--out,--output", args->output, "output package (.firelook)")->required();
+    addOutputOption(*cmd, args->output, "output package (.firelook)", {"--output"})->required();
     cmd->add_option("--alpha-error", args->storage.alpha_error,
                     "largest alpha error the stored optical depths may add, for any look in the baked range")
         ->capture_default_str();

@@ -15,9 +15,29 @@
 
 namespace firelook::package {
 
+namespace detail {
+struct ZstdDecompressor;
+}
+
+// A caller's buffer for repeated reads of sections: the decoded bytes and a zstd context, both
+// reused from read to read, so a reader streaming frames allocates nothing once the buffer has
+// grown to the largest section. Not shared between threads (use one per thread).
+class SectionBuffer {
+  public:
+    SectionBuffer();
+    ~SectionBuffer();
+    SectionBuffer(SectionBuffer&&) noexcept;
+    SectionBuffer& operator=(SectionBuffer&&) noexcept;
+
+  private:
+    friend class PackageReader;
+    std::vector<std::byte> bytes_;
+    std::unique_ptr<detail::ZstdDecompressor> zstd_;
+};
+
 struct ReaderOptions {
     // Map the file (POSIX mmap) instead of reading it into memory; falls back to reading when the
-    // mapping fails. Either way section data is 64-byte aligned in memory.
+    // mapping fails. Either way section data is 64-byte aligned in memory. Ignored by openMemory.
     bool memory_map = true;
     // The section types the caller understands (kMetadataType is always understood). Empty means
     // every type, for inspection tools. A section of another type is skipped when optional and
@@ -37,15 +57,25 @@ struct ReaderOptions {
 // does: it replaces files by rename).
 class PackageReader {
   public:
+    using MemoryOwnership = detail::MemoryOwnership;
+
     static PackageReader open(const std::filesystem::path& file, const ReaderOptions& options = {});
+    // A package held in memory (an engine's own archive), with exactly the checks and errors of
+    // open(); `name` stands for the file in every message and in file(). Borrow: the bytes are used
+    // in place and must stay valid and unchanged for the reader's life, and must be 64-byte aligned
+    // (else InvalidArgument, before anything is read); Copy: copied into an aligned buffer now, any
+    // alignment.
+    static PackageReader openMemory(std::span<const std::byte> bytes, MemoryOwnership ownership,
+                                    const std::filesystem::path& name, const ReaderOptions& options = {});
 
     PackageReader(PackageReader&&) noexcept = default;
     PackageReader& operator=(PackageReader&&) noexcept = default;
 
     FormatVersion version() const { return version_; }
-    const std::filesystem::path& file() const { return file_; }
+    const std::filesystem::path& file() const { return file_; }  // or openMemory's name
     uint64_t fileSize() const { return file_bytes_.bytes().size(); }
     bool isMemoryMapped() const { return file_bytes_.isMemoryMapped(); }
+    bool isBorrowed() const { return file_bytes_.isBorrowed(); }  // openMemory with Borrow
 
     // The usable sections in file order. Optional sections this reader does not understand (unknown
     // type or codec, e.g. from a newer minor version) are omitted; skippedSectionCount() counts them.
@@ -58,6 +88,8 @@ class PackageReader {
     // The decoded bytes of a section of this reader (InvalidArgument for any other SectionInfo),
     // checksum-verified, with the decoded length checked against the index.
     std::vector<std::byte> read(const SectionInfo& section) const;
+    // The same into `buffer`; the span is valid until the buffer's next use.
+    std::span<const std::byte> read(const SectionInfo& section, SectionBuffer& buffer) const;
 
     // A zero-copy, 64-byte aligned view of a Raw section (InvalidArgument for Zstd), checksum-verified.
     std::span<const std::byte> mapped(const SectionInfo& section) const;
@@ -67,6 +99,9 @@ class PackageReader {
 
   private:
     PackageReader() = default;
+    // The checks shared by open() and openMemory(), on bytes already held.
+    static PackageReader validated(std::filesystem::path name, detail::MappedFile bytes,
+                                   const ReaderOptions& options);
     std::size_t indexOf(const SectionInfo& section, const char* operation) const;
     std::span<const std::byte> verifiedStoredBytes(std::size_t index) const;
 

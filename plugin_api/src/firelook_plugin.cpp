@@ -210,6 +210,28 @@ int slotOrFail(const runtime::Package& p, int32_t frame) {
     return slot;
 }
 
+// fl_package_load and fl_package_load_memory: the checks before opening, then the opened package
+// (opened outside the lock: it reads and validates) into the pool.
+template <typename Open>
+void loadPackage(fl_package* out, Open&& open) {
+    checkPointer(out, "out_package");
+    out->id = 0;
+    {
+        Context& c = context();
+        std::lock_guard lock(c.mutex);
+        requireInit(c);
+    }
+    std::shared_ptr<const runtime::Package> package = open();
+    const auto& d = package->description();
+    const std::string loaded = "loaded " + package->name() + " (" + std::to_string(d.width) + "x" +
+                               std::to_string(d.height) + ", " + std::to_string(d.frames.size()) + " frames)";
+    Context& c = context();
+    std::lock_guard lock(c.mutex);
+    requireInit(c);
+    out->id = c.packages.add(std::move(package));
+    logMessage(FL_LOG_INFO, loaded);
+}
+
 }  // namespace
 
 extern "C" {
@@ -294,24 +316,32 @@ FIRELOOK_API fl_result fl_shutdown(void) {
 FIRELOOK_API fl_result fl_package_load(const char* path, fl_package* out) {
     return guarded("fl_package_load", [&] {
         checkPointer(path, "path");
-        checkPointer(out, "out_package");
-        out->id = 0;
-        {
-            Context& c = context();
-            std::lock_guard lock(c.mutex);
-            requireInit(c);
-        }
-        std::error_code ec;
-        if (!std::filesystem::is_regular_file(path, ec))
-            fail(FL_ERROR_IO, std::string(path) + ": no such file (or not a regular file)");
-        std::shared_ptr<const runtime::Package> package = runtime::Package::open(path);  // outside the lock: I/O
-        const auto& d = package->description();
-        Context& c = context();
-        std::lock_guard lock(c.mutex);
-        requireInit(c);
-        out->id = c.packages.add(std::move(package));
-        logMessage(FL_LOG_INFO, std::string("loaded ") + path + " (" + std::to_string(d.width) + "x" +
-                                    std::to_string(d.height) + ", " + std::to_string(d.frames.size()) + " frames)");
+        loadPackage(out, [&] {
+            std::error_code ec;
+            if (!std::filesystem::is_regular_file(path, ec))
+                fail(FL_ERROR_IO, std::string(path) + ": no such file (or not a regular file)");
+            return runtime::Package::open(path);
+        });
+    });
+}
+
+FIRELOOK_API fl_result fl_package_load_memory(const void* data, size_t size, const char* source_name,
+                                              const fl_package_memory_desc* desc, fl_package* out) {
+    return guarded("fl_package_load_memory", [&] {
+        if (out) out->id = 0;  // 0 on every failure, the argument checks' too
+        const std::string name = source_name ? source_name : "(memory)";
+        if (!data) fail(FL_ERROR_INVALID_ARGUMENT, name + ": data is null");
+        if (size == 0) fail(FL_ERROR_INVALID_ARGUMENT, name + ": size is 0");
+        fl_package_memory_desc d = fl_package_memory_desc_defaults();
+        if (desc) d = readIn(desc, "desc");
+        // Unknown bits may be a newer caller's promise this library cannot keep: refused, not ignored.
+        if ((d.flags & ~uint32_t{FL_PACKAGE_MEMORY_BORROW}) != 0)
+            fail(FL_ERROR_INVALID_ARGUMENT, name + ": desc->flags has unknown bits (" + std::to_string(d.flags) + ")");
+        const auto ownership = (d.flags & FL_PACKAGE_MEMORY_BORROW) != 0 ? package::PackageReader::MemoryOwnership::Borrow
+                                                                         : package::PackageReader::MemoryOwnership::Copy;
+        loadPackage(out, [&] {
+            return runtime::Package::openMemory({static_cast<const std::byte*>(data), size}, ownership, name);
+        });
     });
 }
 

@@ -34,12 +34,16 @@ namespace {
 constexpr float kLargestDepth = 65504.0f;
 float finiteOr(float v, float fallback) { return std::isfinite(v) ? v : fallback; }
 
-std::vector<std::byte> readSection(const package::PackageReader& reader, uint32_t type, int frame) {
+const package::SectionInfo& frameSection(const package::PackageReader& reader, uint32_t type, int frame) {
     const package::SectionInfo* section = reader.find(type, static_cast<uint32_t>(frame));
     if (!section)
         throw std::runtime_error(reader.file().string() + ": frame " + std::to_string(frame) + " has no " +
                                  std::string(reinterpret_cast<const char*>(&type), 4) + " section");
-    return reader.read(*section);
+    return *section;
+}
+
+std::vector<std::byte> readSection(const package::PackageReader& reader, uint32_t type, int frame) {
+    return reader.read(frameSection(reader, type, frame));
 }
 
 // Layout 1: U and depths as IEEE half, S V^T as float32, the sigmoid depths as their flame part
@@ -96,10 +100,23 @@ std::string makeMetadata(const BakeDescription& description, const std::string& 
     return doc.dump(2);
 }
 
-BasisPackage BasisPackage::open(const std::filesystem::path& file) {
+package::ReaderOptions BasisPackage::readerOptions() {
     package::ReaderOptions options;
     options.understood_types = {kSectionU, kSectionSVt, kSectionDepths};
-    package::PackageReader reader = package::PackageReader::open(file, options);
+    return options;
+}
+
+BasisPackage BasisPackage::open(const std::filesystem::path& file) {
+    return fromReader(package::PackageReader::open(file, readerOptions()));
+}
+
+BasisPackage BasisPackage::openMemory(std::span<const std::byte> bytes,
+                                      package::PackageReader::MemoryOwnership ownership, const std::string& name) {
+    return fromReader(package::PackageReader::openMemory(bytes, ownership, name, readerOptions()));
+}
+
+BasisPackage BasisPackage::fromReader(package::PackageReader reader) {
+    const std::filesystem::path file = reader.file();
     const std::optional<std::string> metadata = reader.metadata();
     if (!metadata) throw std::runtime_error(file.string() + ": package has no metadata (META) section");
     std::string bake_json;
@@ -129,6 +146,33 @@ FrameFactors BasisPackage::loadFrame(int frame) const {
     const std::vector<std::byte> svt = readSection(reader_, kSectionSVt, frame);
     const std::vector<std::byte> depths = readSection(reader_, kSectionDepths, frame);
     return decodeFrame(description_, frame, record->rank, u, svt, depths, file().string());
+}
+
+ResidentFrame BasisPackage::loadResidentFrame(int frame, std::pmr::memory_resource* memory,
+                                              std::shared_ptr<const DepthTable> table) const {
+    ResidentFrame out(memory);
+    out.depth_table = std::move(table);
+    FrameReadBuffers buffers;
+    loadResidentFrame(frame, out, buffers);
+    return out;
+}
+
+void BasisPackage::loadResidentFrame(int frame, ResidentFrame& out, FrameReadBuffers& buffers) const {
+    const FrameRecord* record = description_.findFrame(frame);
+    if (!record) throw std::runtime_error(file().string() + ": no frame " + std::to_string(frame) + " in the package");
+    if (layout_version_ == 1) {
+        const EncodedFrame e =
+            encodeFrame(description_, loadLayout1(reader_, description_, frame, record->rank), kLayout1Settings);
+        decodeResidentFrame(description_, frame, record->rank, e.u, e.svt, e.depths, file().string(), out);
+        return;
+    }
+    auto section = [&](uint32_t type, package::SectionBuffer& buffer) {
+        return reader_.read(frameSection(reader_, type, frame), buffer);
+    };
+    const std::span<const std::byte> u = section(kSectionU, buffers.u);
+    const std::span<const std::byte> svt = section(kSectionSVt, buffers.svt);
+    const std::span<const std::byte> depths = section(kSectionDepths, buffers.depths);
+    decodeResidentFrame(description_, frame, record->rank, u, svt, depths, file().string(), out);
 }
 
 }  // namespace firelook::basis

@@ -3,7 +3,9 @@
 // itself (checksums, zstd, atomic writes) is formats/package.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
+#include <span>
 #include <string>
 
 #include "basis/bake_description.h"
@@ -22,6 +24,10 @@ inline constexpr uint32_t kSectionDepths = package::makeFourCC('O', 'D', 'E', 'P
 // Layout 1 (U and depths as IEEE half, S V^T as float32) is still read.
 inline constexpr int kBasisLayoutVersion = 2;
 
+// How a layout-1 frame becomes resident: alpha within 2^-15 of the depth grid's range (its
+// finest), every ray that differs kept, U and S V^T within 1e-5 of the basis.
+inline constexpr FrameCodecSettings kLayout1Settings{1e-6, 0.0, 1e-5};
+
 // What storing one frame chose and cost.
 struct StoredFrame {
     double u_error = 0.0, svt_error = 0.0, alpha_bound = 0.0;  // see EncodedFrame
@@ -38,20 +44,40 @@ StoredFrame writeFrameFactors(package::PackageWriter& writer, const BakeDescript
 // `extra_json` is a JSON object whose members are added beside "bake" (provenance, errors).
 std::string makeMetadata(const BakeDescription& description, const std::string& extra_json);
 
+// Buffers for reading one frame's three sections, reused from frame to frame (one per thread).
+struct FrameReadBuffers {
+    package::SectionBuffer u, svt, depths;
+};
+
 class BasisPackage {
 public:
     // Throws package::PackageError or std::runtime_error naming the file.
     static BasisPackage open(const std::filesystem::path& file);
+    // The same from a package held in memory (package::PackageReader::openMemory: a borrowed buffer
+    // must be 64-byte aligned and outlive the BasisPackage unchanged); `name` stands for the file.
+    static BasisPackage openMemory(std::span<const std::byte> bytes, package::PackageReader::MemoryOwnership ownership,
+                                   const std::string& name);
 
     const BakeDescription& description() const { return description_; }
     const std::string& metadataJson() const { return metadata_; }
-    const std::filesystem::path& file() const { return reader_.file(); }
+    const std::filesystem::path& file() const { return reader_.file(); }  // or openMemory's name
     const package::PackageReader& reader() const { return reader_; }
     int layoutVersion() const { return layout_version_; }
     // Decompresses and validates one frame (sizes against the description).
     FrameFactors loadFrame(int frame) const;
+    // The same frame in the resident form (frame_codec.h, decodeResidentFrame). A layout-1 frame
+    // is first stored through the frame codec at its finest settings (kLayout1Settings).
+    ResidentFrame loadResidentFrame(int frame, std::pmr::memory_resource* memory,
+                                    std::shared_ptr<const DepthTable> table = nullptr) const;
+    // The same into `out`, reusing its buffers and depth table and `buffers` for the sections
+    // (frame_codec.h): what a streaming runtime does, with no allocation once warm.
+    void loadResidentFrame(int frame, ResidentFrame& out, FrameReadBuffers& buffers) const;
 
 private:
+    // What open() and openMemory() share: the reader's options and the META checks.
+    static package::ReaderOptions readerOptions();
+    static BasisPackage fromReader(package::PackageReader reader);
+
     BasisPackage(package::PackageReader reader, BakeDescription description, std::string metadata, int layout)
         : reader_(std::move(reader)), description_(std::move(description)), metadata_(std::move(metadata)),
           layout_version_(layout) {}

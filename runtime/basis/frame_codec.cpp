@@ -5,8 +5,11 @@
 #include <cstring>
 #include <glm/gtc/packing.hpp>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
+
+#include "basis/simd.h"
 
 namespace firelook::basis {
 namespace {
@@ -14,7 +17,9 @@ namespace {
 // Depths decode to at most this (the largest half, as packages of layout 1 stored): every
 // transmittance exp(-k * 65504) is 0 in float for k above 0.0016.
 constexpr double kLargestDepth = 65504.0;
-constexpr uint32_t kCodecVersion = 1;
+// Payload version: 2 stores every item's codes together (a pixel's rank values, a ray's depth
+// planes), so the decoder undoes the prediction of all planes at once; 1 stored plane after plane.
+constexpr uint32_t kCodecVersion = 2;
 // U and S V^T share the basis error: each adds half of its square.
 constexpr double kPerFactor = 0.70710678118654752;
 
@@ -116,6 +121,15 @@ void putShuffled(ByteWriter& out, const std::vector<uint16_t>& codes) {
         p[i] = static_cast<std::byte>(codes[i] & 0xFF);
         p[codes.size() + i] = static_cast<std::byte>(codes[i] >> 8);
     }
+}
+
+// Plane-major codes (plane after plane, `items` codes each) to item-major (an item's `planes`
+// codes together), the order version 2 stores; `transpose(codes, items, planes)` is the inverse.
+std::vector<uint16_t> transpose(const uint16_t* codes, size_t planes, size_t items) {
+    std::vector<uint16_t> out(planes * items);
+    for (size_t i = 0; i < planes; ++i)
+        for (size_t j = 0; j < items; ++j) out[j * planes + i] = codes[i * items + j];
+    return out;
 }
 
 std::vector<uint16_t> getShuffled(ByteReader& in, size_t count) {
@@ -333,7 +347,7 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
             predictPlane(plane.data(), description.width, description.height, nullptr, codes);
         }
         out.u_error = norm2 > 0.0 ? std::sqrt(error2 / norm2) : 0.0;
-        putShuffled(w, codes);
+        putShuffled(w, transpose(codes.data(), rank, pixels));
         out.u = w.take();
     }
 
@@ -437,12 +451,16 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
             for (int s = 0; s < samples; ++s)
                 for (size_t p = 0; p < pixels; ++p)
                     if (!detailed[p]) rays_q[i * lattice.size() + lattice.at(s, p)] = mean[i * pixels + p];
-        std::vector<uint16_t> codes;
-        codes.reserve(planes * pixels);
+        std::vector<uint16_t> mean_codes, ray_codes;
+        mean_codes.reserve(planes * pixels);
         for (size_t i = 0; i < planes; ++i)
-            predictPlane(mean.data() + i * pixels, description.width, description.height, nullptr, codes);
+            predictPlane(mean.data() + i * pixels, description.width, description.height, nullptr, mean_codes);
         for (size_t i = 0; i < planes; ++i)
-            predictPlane(rays_q.data() + i * lattice.size(), lattice.width, lattice.height, ray_detailed.data(), codes);
+            predictPlane(rays_q.data() + i * lattice.size(), lattice.width, lattice.height, ray_detailed.data(),
+                         ray_codes);
+        std::vector<uint16_t> codes = transpose(mean_codes.data(), planes, pixels);
+        const std::vector<uint16_t> rays_item_major = transpose(ray_codes.data(), planes, ray_codes.size() / planes);
+        codes.insert(codes.end(), rays_item_major.begin(), rays_item_major.end());
         putShuffled(w, codes);
         out.depths = w.take();
         out.detailed_pixels = static_cast<size_t>(std::count(detailed.begin(), detailed.end(), uint8_t{1}));
@@ -460,33 +478,243 @@ FrameFactors emptyFrameFactors(const BakeDescription& description, int frame, in
 }
 
 // ---- decoding --------------------------------------------------------------------------------
-FrameFactors decodeFrame(const BakeDescription& description, int frame, int rank, std::span<const std::byte> u,
-                         std::span<const std::byte> svt, std::span<const std::byte> depths,
-                         const std::string& source) {
+std::shared_ptr<const DepthTable> DepthTable::build(double step, double k_lo, double k_hi) {
+    auto table = std::make_shared<DepthTable>();
+    table->step = step;
+    table->k_lo = k_lo;
+    table->k_hi = k_hi;
+    DepthCompanding g;
+    g.k_lo = k_lo;
+    g.k_hi = k_hi;
+    const int levels = static_cast<int>(depthLevels(g, step)) + 1;
+    table->depth.resize(levels);
+    for (int q = 0; q < levels; ++q)
+        table->depth[q] = static_cast<float>(std::min(kLargestDepth, g.inverse(q * step)));
+    return table;
+}
+
+namespace {
+using simd::v8b;
+using simd::v8s;
+using simd::v8u;
+
+// Item-major codes (version 2's order) as their two byte planes: code i = lo[i] | hi[i] << 8.
+struct CodeStream {
+    const uint8_t* lo = nullptr;
+    const uint8_t* hi = nullptr;
+    size_t count = 0;
+
+    static CodeStream of(ByteReader& in, size_t count) {
+        const auto* p = reinterpret_cast<const uint8_t*>(in.need(count * 2));
+        return {p, p + count, count};
+    }
+    // Codes [at, at + n), n <= 8, zig-zag undone; lanes from n on are 0. Reads 8 codes wherever
+    // the stream has them and masks the rest (a short copy only at the stream's very end).
+    FIRELOOK_ALWAYS_INLINE void residuals(v8s& out, size_t at, int n) const {
+        v8b l = {}, h = {};
+        if (at + 8 <= count) {
+            simd::load(l, lo + at);
+            simd::load(h, hi + at);
+            if (n < 8) {
+                const v8b lane = {0, 1, 2, 3, 4, 5, 6, 7};
+                const v8b keep = lane < static_cast<uint8_t>(n);
+                l &= keep;
+                h &= keep;
+            }
+        } else {
+            for (int i = 0; i < n; ++i) {
+                l[i] = lo[at + i];
+                h[i] = hi[at + i];
+            }
+        }
+        const v8u z = __builtin_convertvector(l, v8u) | (__builtin_convertvector(h, v8u) << 8);
+        out = reinterpret_cast<v8s>((z >> 1) ^ (v8u{} - (z & 1)));
+    }
+};
+
+// A version-1 payload's plane-major codes rewritten in version 2's order (segments of `planes`
+// planes of `items` codes each, one after another), so one decoder serves both.
+struct ReorderedCodes {
+    std::vector<uint8_t> bytes;
+    CodeStream stream;
+    ReorderedCodes(ByteReader& in, std::initializer_list<std::pair<size_t, size_t>> segments) {
+        size_t count = 0;
+        for (const auto& [planes, items] : segments) count += planes * items;
+        const std::vector<uint16_t> plane_major = getShuffled(in, count);
+        bytes.resize(count * 2);
+        size_t at = 0;
+        for (const auto& [planes, items] : segments) {
+            const std::vector<uint16_t> codes = transpose(plane_major.data() + at, planes, items);
+            for (size_t i = 0; i < codes.size(); ++i) {
+                bytes[at + i] = static_cast<uint8_t>(codes[i] & 0xFF);
+                bytes[count + at + i] = static_cast<uint8_t>(codes[i] >> 8);
+            }
+            at += planes * items;
+        }
+        stream = {bytes.data(), bytes.data() + count, count};
+    }
+};
+
+// The median edge detector (medPredict) on 8 planes at once; the sums wrap as int16 arithmetic
+// does in the scalar encoder.
+FIRELOOK_ALWAYS_INLINE void medPredict8(v8s& out, const v8s& a, const v8s& b, const v8s& c) {
+    const v8s lo = a < b ? a : b, hi = a < b ? b : a;
+    const v8s mid = reinterpret_cast<v8s>(reinterpret_cast<v8u>(a) + reinterpret_cast<v8u>(b) -
+                                          reinterpret_cast<v8u>(c));
+    out = c >= hi ? lo : (c <= lo ? hi : mid);
+}
+
+FIRELOOK_ALWAYS_INLINE void addWrapping(v8s& out, const v8s& prediction, const v8s& residual) {
+    out = reinterpret_cast<v8s>(reinterpret_cast<v8u>(prediction) + reinterpret_cast<v8u>(residual));
+}
+
+// One item's value from its prediction (neighbour rows may be null: the predictAt edge rules).
+FIRELOOK_ALWAYS_INLINE void decodeItem(const CodeStream& codes, size_t first_code, int lanes, int stride,
+                                       const int16_t* left, const int16_t* up, const int16_t* up_left,
+                                       int16_t* out) {
+    for (int g = 0; g * 8 < stride; ++g) {
+        v8s r, prediction = {};
+        codes.residuals(r, first_code + 8 * g, std::min(8, lanes - 8 * g));
+        if (left && up) {
+            v8s a, b, c;
+            simd::load(a, left + 8 * g);
+            simd::load(b, up + 8 * g);
+            simd::load(c, up_left + 8 * g);
+            medPredict8(prediction, a, b, c);
+        } else if (left) {
+            simd::load(prediction, left + 8 * g);
+        } else if (up) {
+            simd::load(prediction, up + 8 * g);
+        }
+        v8s v;
+        addWrapping(v, prediction, r);
+        simd::store(out + 8 * g, v);
+    }
+}
+
+// A w x h image of items with `lanes` planes each, stored `stride` (a multiple of 8, >= lanes)
+// apart; codes item after item. Returns the next code.
+FIRELOOK_KERNEL_CLONES
+size_t decodeImage(const CodeStream& codes, size_t first_code, int lanes, int stride, int w, int h, int16_t* out) {
+    const size_t row = static_cast<size_t>(w) * stride;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            int16_t* item = out + static_cast<size_t>(y) * row + static_cast<size_t>(x) * stride;
+            decodeItem(codes, first_code, lanes, stride, x > 0 ? item - stride : nullptr, y > 0 ? item - row : nullptr,
+                       x > 0 && y > 0 ? item - row - stride : nullptr, item);
+            first_code += static_cast<size_t>(lanes);
+        }
+    return first_code;
+}
+
+// The detailed pixels' rays on the ray lattice (RayLattice), in its scan order: each ray is
+// predicted from its lattice neighbours, which are rays of detailed pixels or else the mean ray
+// of their pixel (what the encoder's plane held there).
+class RayDecoder {
+  public:
+    RayDecoder(const RayLattice& lattice, const int16_t* mean, int stride, const std::vector<int32_t>& index_of,
+               int16_t* rays)
+        : l_(lattice), mean_(mean), stride_(stride), index_of_(index_of), rays_(rays), samples_(lattice.samples()) {}
+
+    const int16_t* at(int x, int y) const {
+        int p, s;
+        if (l_.n > 0) {
+            p = (y / l_.n) * l_.image_width + x / l_.n;
+            s = (y % l_.n) * l_.n + x % l_.n;
+        } else {
+            p = (y % l_.image_height) * l_.image_width + x;
+            s = y / l_.image_height;
+        }
+        const int32_t index = index_of_[static_cast<size_t>(p)];
+        return index < 0 ? mean_ + static_cast<size_t>(p) * stride_
+                         : rays_ + (static_cast<size_t>(index) * samples_ + s) * stride_;
+    }
+    int16_t* ray(int32_t index, int s) const { return rays_ + (static_cast<size_t>(index) * samples_ + s) * stride_; }
+
+    // rows[py]: the detailed pixels of pixel row py, increasing.
+    size_t decode(const CodeStream& codes, size_t first_code, int lanes,
+                  const std::vector<std::vector<int32_t>>& rows) const {
+        const int per_pixel = l_.n > 0 ? l_.n : 1;
+        for (int y = 0; y < l_.height; ++y) {
+            const int py = l_.n > 0 ? y / l_.n : y % l_.image_height;
+            for (const int32_t p : rows[static_cast<size_t>(py)]) {
+                const int px = p % l_.image_width;
+                for (int c = 0; c < per_pixel; ++c) {
+                    const int x = px * per_pixel + c;
+                    const int s = l_.n > 0 ? (y % l_.n) * l_.n + c : y / l_.image_height;
+                    decodeItem(codes, first_code, lanes, stride_, x > 0 ? at(x - 1, y) : nullptr,
+                               y > 0 ? at(x, y - 1) : nullptr, x > 0 && y > 0 ? at(x - 1, y - 1) : nullptr,
+                               ray(index_of_[static_cast<size_t>(p)], s));
+                    first_code += static_cast<size_t>(lanes);
+                }
+            }
+        }
+        return first_code;
+    }
+
+  private:
+    const RayLattice& l_;
+    const int16_t* mean_;
+    int stride_;
+    const std::vector<int32_t>& index_of_;
+    int16_t* rays_;
+    int samples_;
+};
+
+// Depth planes as stored (q(O_b), e_0, then e_(j-1) - e_j) to the resident form (q(O_b), e_j).
+void accumulateThresholds(int16_t* items, size_t count, int stride, int thresholds) {
+    for (size_t i = 0; i < count; ++i) {
+        int16_t* v = items + i * stride;
+        int16_t e = v[1];
+        for (int j = 1; j < thresholds; ++j) {
+            e = static_cast<int16_t>(e - v[1 + j]);
+            v[1 + j] = e;
+        }
+    }
+}
+
+int roundUp8(int n) { return (n + 7) / 8 * 8; }
+
+}  // namespace
+
+void decodeResidentFrame(const BakeDescription& description, int frame, int rank, std::span<const std::byte> u,
+                         std::span<const std::byte> svt, std::span<const std::byte> depths, const std::string& source,
+                         ResidentFrame& f) {
     const std::string where = source + ": frame " + std::to_string(frame);
-    FrameFactors f = emptyFrameFactors(description, frame, rank);
+    std::shared_ptr<const DepthTable> table = std::move(f.depth_table);
+    f.detailed_pixels.clear();
+    f.frame = frame;
+    f.pixels = description.pixelCount();
+    f.columns = description.columnCount();
+    f.rank = rank;
+    f.rank_stride = roundUp8(rank);
+    f.samples = description.footprint_samples;
     const size_t pixels = static_cast<size_t>(f.pixels);
     const int w = description.width, h = description.height;
 
     {
         ByteReader in(u, where + " UFAC section");
-        if (in.get<uint32_t>() != kCodecVersion) in.fail("has an unknown codec version");
+        const uint32_t version = in.get<uint32_t>();
+        if (version != 1 && version != kCodecVersion) in.fail("has an unknown codec version");
         if (in.get<uint32_t>() != static_cast<uint32_t>(rank)) in.fail("holds another rank than the metadata");
         const double step = in.get<double>();
         if (!(step > 0.0) || !std::isfinite(step)) in.fail("has an invalid step");
-        std::vector<float> scale(rank);
+        f.u_scale.assign(static_cast<size_t>(f.rank_stride), 0.0f);
         for (int k = 0; k < rank; ++k) {
-            scale[k] = in.get<float>();
-            if (!std::isfinite(scale[k])) in.fail("has a non-finite scale");
+            f.u_scale[k] = in.get<float>();
+            if (!std::isfinite(f.u_scale[k])) in.fail("has a non-finite scale");
         }
-        const std::vector<uint16_t> codes = getShuffled(in, pixels * rank);
+        std::optional<ReorderedCodes> reordered;
+        CodeStream codes;
+        if (version == 1) {
+            reordered.emplace(in, std::initializer_list<std::pair<size_t, size_t>>{{size_t(rank), pixels}});
+            codes = reordered->stream;
+        } else {
+            codes = CodeStream::of(in, pixels * rank);
+        }
         in.expectEnd();
-        f.u_half.resize(pixels * rank);
-        std::vector<int16_t> plane(pixels);
-        for (int k = 0; k < rank; ++k) {
-            unpredictPlane(codes.data() + k * pixels, w, h, nullptr, plane.data());
-            for (size_t p = 0; p < pixels; ++p) f.u_half[p * rank + k] = glm::packHalf1x16(plane[p] * scale[k]);
-        }
+        f.w.resize(pixels * f.rank_stride);  // every value is written below
+        if (rank > 0) decodeImage(codes, 0, rank, f.rank_stride, w, h, f.w.data());
     }
     {
         const size_t count = static_cast<size_t>(f.columns) * rank;
@@ -500,12 +728,14 @@ FrameFactors decodeFrame(const BakeDescription& description, int frame, int rank
         for (int k = 0; k < rank; ++k) {
             unpredictPlane(codes.data() + static_cast<size_t>(k) * f.columns, description.columnsPerPoint(),
                            description.axes.pointCount(), nullptr, plane.data());
-            for (int j = 0; j < f.columns; ++j) f.svt[static_cast<size_t>(j) * rank + k] = static_cast<float>(plane[j] * step);
+            for (int j = 0; j < f.columns; ++j)
+                f.svt[static_cast<size_t>(j) * rank + k] = static_cast<float>(plane[j] * step);
         }
     }
     {
         ByteReader in(depths, where + " ODEP section");
-        if (in.get<uint32_t>() != kCodecVersion) in.fail("has an unknown codec version");
+        const uint32_t version = in.get<uint32_t>();
+        if (version != 1 && version != kCodecVersion) in.fail("has an unknown codec version");
         const size_t thresholds = in.get<uint32_t>();
         if (thresholds != description.alpha_thresholds.size()) in.fail("holds another threshold count");
         const double step = in.get<double>();
@@ -515,54 +745,93 @@ FrameFactors decodeFrame(const BakeDescription& description, int frame, int rank
         if (!(step > 0.0) || !(g.k_lo > 0.0) || !(g.k_hi >= g.k_lo) || !std::isfinite(g.k_hi) ||
             depthLevels(g, step) > 32767.0)
             in.fail("has an invalid depth quantisation");
+        f.depth_table = table && table->sameGrid(step, g.k_lo, g.k_hi) ? std::move(table)
+                                                                        : DepthTable::build(step, g.k_lo, g.k_hi);
         const RayLattice lattice = RayLattice::of(description);
-        const size_t planes = 1 + thresholds;
-        std::vector<uint8_t> detailed(pixels);
-        const std::byte* flags = in.need(pixels);
+        const int planes = static_cast<int>(1 + thresholds);
+        f.depth_stride = roundUp8(planes);
+        // Which pixels are detailed: their index among the detailed ones (-1: mean ray only).
+        std::vector<int32_t> index_of(pixels, -1);
+        std::vector<std::vector<int32_t>> rows(static_cast<size_t>(h));
+        const auto* flags = reinterpret_cast<const uint8_t*>(in.need(pixels));
         for (size_t p = 0; p < pixels; ++p) {
-            detailed[p] = static_cast<uint8_t>(flags[p]);
-            if (detailed[p] > 1) in.fail("has an invalid pixel flag");
+            if (flags[p] > 1) in.fail("has an invalid pixel flag");
+            if (!flags[p]) continue;
+            index_of[p] = static_cast<int32_t>(f.detailed_pixels.size());
+            f.detailed_pixels.push_back(static_cast<int32_t>(p));
+            rows[p / static_cast<size_t>(w)].push_back(static_cast<int32_t>(p));
         }
-        const std::vector<uint8_t> ray_detailed = lattice.spread(detailed);
-        const size_t detailed_rays = static_cast<size_t>(std::count(ray_detailed.begin(), ray_detailed.end(), uint8_t{1}));
-        const std::vector<uint16_t> codes = getShuffled(in, planes * (pixels + detailed_rays));
+        const size_t detailed_rays = f.detailed_pixels.size() * static_cast<size_t>(f.samples);
+        std::optional<ReorderedCodes> reordered;
+        CodeStream codes;
+        if (version == 1) {
+            reordered.emplace(in, std::initializer_list<std::pair<size_t, size_t>>{{size_t(planes), pixels},
+                                                                                  {size_t(planes), detailed_rays}});
+            codes = reordered->stream;
+        } else {
+            codes = CodeStream::of(in, static_cast<size_t>(planes) * (pixels + detailed_rays));
+        }
         in.expectEnd();
-        std::vector<int16_t> mean(planes * pixels), rays_q(planes * lattice.size());
-        const uint16_t* next = codes.data();
-        for (size_t i = 0; i < planes; ++i)
-            next = unpredictPlane(next, description.width, description.height, nullptr, mean.data() + i * pixels);
-        const int samples = description.footprint_samples;
-        for (size_t i = 0; i < planes; ++i) {
-            for (int s = 0; s < samples; ++s)
-                for (size_t p = 0; p < pixels; ++p)
-                    if (!detailed[p]) rays_q[i * lattice.size() + lattice.at(s, p)] = mean[i * pixels + p];
-            next = unpredictPlane(next, lattice.width, lattice.height, ray_detailed.data(),
-                                  rays_q.data() + i * lattice.size());
+        f.mean_depth.resize(pixels * f.depth_stride);  // every value is written below
+        f.detailed_depth.resize(detailed_rays * f.depth_stride);
+        const size_t next = decodeImage(codes, 0, planes, f.depth_stride, w, h, f.mean_depth.data());
+        RayDecoder(lattice, f.mean_depth.data(), f.depth_stride, index_of, f.detailed_depth.data())
+            .decode(codes, next, planes, rows);
+        accumulateThresholds(f.mean_depth.data(), pixels, f.depth_stride, static_cast<int>(thresholds));
+        accumulateThresholds(f.detailed_depth.data(), detailed_rays, f.depth_stride, static_cast<int>(thresholds));
+    }
+}
+
+ResidentFrame decodeResidentFrame(const BakeDescription& description, int frame, int rank,
+                                  std::span<const std::byte> u, std::span<const std::byte> svt,
+                                  std::span<const std::byte> depths, const std::string& source,
+                                  std::pmr::memory_resource* memory, std::shared_ptr<const DepthTable> table) {
+    ResidentFrame f(memory);
+    f.depth_table = std::move(table);
+    decodeResidentFrame(description, frame, rank, u, svt, depths, source, f);
+    return f;
+}
+
+FrameFactors expandFrame(const BakeDescription& description, const ResidentFrame& r) {
+    FrameFactors f = emptyFrameFactors(description, r.frame, r.rank);
+    const size_t pixels = static_cast<size_t>(f.pixels);
+    f.u_half.resize(pixels * r.rank);
+    for (size_t p = 0; p < pixels; ++p)
+        for (int k = 0; k < r.rank; ++k)
+            f.u_half[p * r.rank + k] = glm::packHalf1x16(r.w[p * r.rank_stride + k] * r.u_scale[k]);
+    f.svt.assign(r.svt.begin(), r.svt.end());
+    const size_t thresholds = description.alpha_thresholds.size();
+    const int samples = description.footprint_samples;
+    f.depth_density.resize(pixels * samples);
+    f.depth_sigmoid.resize(pixels * samples * thresholds);
+    const std::vector<float>& table = r.depth_table->depth;
+    const int last = static_cast<int>(table.size()) - 1;
+    auto depth = [&](int q) { return table[static_cast<size_t>(std::clamp(q, 0, last))]; };
+    size_t next_detailed = 0;
+    for (size_t p = 0; p < pixels; ++p) {
+        const bool detailed =
+            next_detailed < r.detailed_pixels.size() && static_cast<size_t>(r.detailed_pixels[next_detailed]) == p;
+        for (int s = 0; s < samples; ++s) {
+            const int16_t* v = detailed ? r.detailed_depth.data() + (next_detailed * samples + s) * r.depth_stride
+                                        : r.mean_depth.data() + p * r.depth_stride;
+            const float o_b = depth(v[0]);
+            f.depth_density[static_cast<size_t>(s) * pixels + p] = o_b;
+            // O_a = 2 F - O_b = O_b - 2 S.
+            for (size_t j = 0; j < thresholds; ++j)
+                f.depth_sigmoid[(static_cast<size_t>(s) * thresholds + j) * pixels + p] =
+                    o_b - 2.0f * depth(int(v[0]) - int(v[1 + j]));
         }
-        // Decoded depth of every level once (a few thousand levels).
-        const int levels = static_cast<int>(depthLevels(g, step)) + 1;
-        std::vector<float> depth_of(levels);
-        for (int q = 0; q < levels; ++q)
-            depth_of[q] = static_cast<float>(std::min(kLargestDepth, g.inverse(q * step)));
-        auto depth = [&](int q) { return depth_of[std::clamp(q, 0, levels - 1)]; };
-        f.depth_density.resize(pixels * samples);
-        f.depth_sigmoid.resize(pixels * samples * thresholds);
-        for (int s = 0; s < samples; ++s)
-            for (size_t p = 0; p < pixels; ++p) {
-                const size_t at = lattice.at(s, p);
-                const int qo = rays_q[at];
-                const float o_b = depth(qo);
-                f.depth_density[static_cast<size_t>(s) * pixels + p] = o_b;
-                int e = 0;
-                for (size_t j = 0; j < thresholds; ++j) {
-                    const int16_t code = rays_q[(1 + j) * lattice.size() + at];
-                    e = j == 0 ? code : static_cast<int16_t>(e - code);
-                    // O_a = 2 F - O_b = O_b - 2 S.
-                    f.depth_sigmoid[(static_cast<size_t>(s) * thresholds + j) * pixels + p] = o_b - 2.0f * depth(qo - e);
-                }
-            }
+        if (detailed) ++next_detailed;
     }
     return f;
+}
+
+FrameFactors decodeFrame(const BakeDescription& description, int frame, int rank, std::span<const std::byte> u,
+                         std::span<const std::byte> svt, std::span<const std::byte> depths,
+                         const std::string& source) {
+    return expandFrame(description,
+                       decodeResidentFrame(description, frame, rank, u, svt, depths, source,
+                                           std::pmr::get_default_resource(), nullptr));
 }
 
 }  // namespace firelook::basis

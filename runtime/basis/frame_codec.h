@@ -18,10 +18,12 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "basis/bake_description.h"
 #include "basis/frame_factors.h"
+#include "basis/resident_frame.h"
 
 namespace firelook::basis {
 
@@ -59,8 +61,26 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
 // A frame's sizes as the description gives them, with no values yet (what a reader fills in).
 FrameFactors emptyFrameFactors(const BakeDescription& description, int frame, int rank);
 
-// Throws std::runtime_error (naming `source` and the frame) when a payload does not match the
-// description or is damaged.
+// The resident form of a frame (resident_frame.h), its memory from `memory`; `table` is reused
+// when the frame's depth grid is the same (else a new one is built). Reads payload versions 1
+// and 2. Throws std::runtime_error (naming `source` and the frame) when a payload does not match
+// the description or is damaged.
+ResidentFrame decodeResidentFrame(const BakeDescription& description, int frame, int rank,
+                                  std::span<const std::byte> u, std::span<const std::byte> svt,
+                                  std::span<const std::byte> depths, const std::string& source,
+                                  std::pmr::memory_resource* memory, std::shared_ptr<const DepthTable> table);
+// The same into an existing frame, reusing its buffers (and its depth_table when the grid is the
+// same): a world that evicts one frame to load another decodes without fresh memory. On a throw
+// the frame's contents are unspecified (but its buffers valid).
+void decodeResidentFrame(const BakeDescription& description, int frame, int rank, std::span<const std::byte> u,
+                         std::span<const std::byte> svt, std::span<const std::byte> depths, const std::string& source,
+                         ResidentFrame& out);
+
+// The float layout of FrameFactors from the resident form (U rounded to half), for the tools and
+// the GPU upload.
+FrameFactors expandFrame(const BakeDescription& description, const ResidentFrame& frame);
+
+// decodeResidentFrame, then expandFrame.
 FrameFactors decodeFrame(const BakeDescription& description, int frame, int rank, std::span<const std::byte> u,
                          std::span<const std::byte> svt, std::span<const std::byte> depths,
                          const std::string& source);

@@ -7,17 +7,35 @@
 
 namespace firelook::basis {
 
-void renderLookImage(const BakeDescription& description, const FrameFactors& factors, std::span<const float> u_float,
-                     const Look& look, std::span<float> rgba_out) {
+namespace {
+
+template <typename Frame, typename Reconstruct>
+void renderWith(const BakeDescription& description, const Frame& frame, const Look& look, Reconstruct reconstruct) {
     if (std::abs(look.albedo - description.albedo) > 1e-6)
         throw LookError(look.source_name + ": key 'albedo': " + std::to_string(look.albedo) +
                         " differs from the package's baked albedo " + std::to_string(description.albedo) +
                         " (albedo is fixed at bake time)");
     const LookModel model = makeLookModel(look, description.bins, description.rbf_width, description.light_directions);
-    std::vector<float> z(static_cast<size_t>(factors.rank) * 3);
+    std::vector<float> z(static_cast<size_t>(frame.rank) * 3);
     const LookWeights weights{look.extinction(), model.emission.coefficients, look.light_irradiance};
-    computeCoefficients(description, factors, weights, z);
-    reconstructImage(description, factors, u_float, z, look.extinction(), rgba_out);
+    computeCoefficients(description, frame, weights, z);
+    reconstruct(z);
+}
+
+}  // namespace
+
+void renderLookImage(const BakeDescription& description, const FrameFactors& factors, std::span<const float> u_float,
+                     const Look& look, std::span<float> rgba_out) {
+    renderWith(description, factors, look, [&](std::span<const float> z) {
+        reconstructImage(description, factors, u_float, z, look.extinction(), rgba_out);
+    });
+}
+
+void renderLookImage(const BakeDescription& description, const ResidentFrame& frame, const Look& look,
+                     std::span<float> rgba_out) {
+    renderWith(description, frame, look, [&](std::span<const float> z) {
+        reconstructImage(description, frame, z, look.extinction(), rgba_out);
+    });
 }
 
 }  // namespace firelook::basis

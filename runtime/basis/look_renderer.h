@@ -8,6 +8,7 @@
 
 #include "basis/bake_description.h"
 #include "basis/frame_factors.h"
+#include "basis/resident_frame.h"
 #include "look/look.h"
 
 namespace firelook::basis {
@@ -16,5 +17,8 @@ namespace firelook::basis {
 // baked one or the number of lights or bins does not match.
 void renderLookImage(const BakeDescription& description, const FrameFactors& factors, std::span<const float> u_float,
                      const Look& look, std::span<float> rgba_out);
+// The same on the resident form (what the runtime world draws, bit for bit).
+void renderLookImage(const BakeDescription& description, const ResidentFrame& frame, const Look& look,
+                     std::span<float> rgba_out);
 
 }  // namespace firelook::basis

@@ -7,6 +7,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "basis/simd.h"
+
 namespace firelook::basis {
 namespace {
 
@@ -28,8 +30,10 @@ ThresholdLerp thresholdLerp(const std::vector<double>& samples, double t_c) {
 
 }  // namespace
 
-void computeCoefficients(const BakeDescription& description, const FrameFactors& factors,
-                         const LookWeights& look, std::span<float> z_out) {
+namespace {
+
+void coefficientsOf(const BakeDescription& description, std::span<const float> svt, int rank, const LookWeights& look,
+                    std::span<float> z_out) {
     const int bins = description.bins.count;
     const int lights = static_cast<int>(description.light_directions.size());
     if (static_cast<int>(look.rbf_coefficients.size()) != bins)
@@ -40,9 +44,10 @@ void computeCoefficients(const BakeDescription& description, const FrameFactors&
         throw std::invalid_argument("look has " + std::to_string(look.light_irradiance.size()) +
                                     " light irradiances, the package has " + std::to_string(lights) +
                                     " lights");
-    const int rank = factors.rank;
     if (static_cast<int>(z_out.size()) < rank * 3)
         throw std::invalid_argument("coefficient output too short");
+    if (svt.size() < static_cast<size_t>(description.columnCount()) * std::max(rank, 0))
+        throw std::invalid_argument("S V^T too short for the description");
 
     std::fill(z_out.begin(), z_out.begin() + rank * 3, 0.0f);
     const GridWeights grid = interpolationWeights(description.axes, look.extinction);
@@ -53,7 +58,7 @@ void computeCoefficients(const BakeDescription& description, const FrameFactors&
             const Rgb weight =
                 grid.weight[g] * (c < bins ? look.rbf_coefficients[c] : look.light_irradiance[c - bins]);
             if (weight.r == 0.0f && weight.g == 0.0f && weight.b == 0.0f) continue;
-            const float* column = factors.svt.data() + static_cast<size_t>(first_column + c) * rank;
+            const float* column = svt.data() + static_cast<size_t>(first_column + c) * rank;
             for (int k = 0; k < rank; ++k) {
                 z_out[k * 3 + 0] += column[k] * weight.r;
                 z_out[k * 3 + 1] += column[k] * weight.g;
@@ -63,28 +68,31 @@ void computeCoefficients(const BakeDescription& description, const FrameFactors&
     }
 }
 
+}  // namespace
+
+void computeCoefficients(const BakeDescription& description, const FrameFactors& factors, const LookWeights& look,
+                         std::span<float> z_out) {
+    coefficientsOf(description, factors.svt, factors.rank, look, z_out);
+}
+
+void computeCoefficients(const BakeDescription& description, const ResidentFrame& frame, const LookWeights& look,
+                         std::span<float> z_out) {
+    coefficientsOf(description, frame.svt, frame.rank, look, z_out);
+}
+
 namespace {
 
 // ---------------------------------------------------------------------------------------------
-// Reconstruction kernels. Two builds of each, picked once at load time by the CPU (GCC function
-// multi-versioning, as in runtime/world/coefficient_kernel.cpp): AVX2 (x86-64-v3) and the
-// baseline. They are written with GCC vector extensions, 8 float lanes, so the baseline build is
-// the same code on pairs of SSE registers. Helpers take vectors by reference (always inlined), so
-// no vector crosses a call boundary and the psABI of 32-byte vectors never matters.
+// Reconstruction kernels, on the types of basis/simd.h (two builds each, AVX2 and the baseline),
+// 8 float lanes, so the baseline build is the same code on pairs of SSE registers.
 // ---------------------------------------------------------------------------------------------
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define FIRELOOK_KERNEL_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define FIRELOOK_KERNEL_CLONES
-#endif
-#define FIRELOOK_INLINE inline __attribute__((always_inline))
+using simd::v4f;
+using simd::v8f;
+using simd::v8i;
+using simd::v8s;
 
-typedef float v8f __attribute__((vector_size(32)));
-typedef int32_t v8i __attribute__((vector_size(32)));
-typedef float v4f __attribute__((vector_size(16)));
-
-FIRELOOK_INLINE void load8(v8f& v, const float* p) { std::memcpy(&v, p, sizeof v); }
-FIRELOOK_INLINE void store8(float* p, const v8f& v) { std::memcpy(p, &v, sizeof v); }
+FIRELOOK_ALWAYS_INLINE void load8(v8f& v, const float* p) { simd::load(v, p); }
+FIRELOOK_ALWAYS_INLINE void store8(float* p, const v8f& v) { simd::store(p, v); }
 
 // Optical depths are handled in units of log2: tau2 = tau / ln 2, clamped to [0, kMaxTau2]:
 // 2^-125 = 2.4e-38 is still a normal float and 1 - 2^-125 rounds to exactly 1, so the clamp
@@ -133,7 +141,7 @@ AlphaPlan alphaPlan(const BakeDescription& description, const FrameFactors& fact
 // carry (relative 2^-11 in tau, up to 2e-4 in alpha). Eigen's vectorised Array::exp would do too,
 // but the runtime does not link Eigen, and Eigen picks its packet width at compile time (SSE2 in
 // this build) rather than per target clone; the clamping and NaN rules here are ours either way.
-FIRELOOK_INLINE void addRayAlpha(v8f& sum, const v8f& tau_in) {
+FIRELOOK_ALWAYS_INLINE void addRayAlpha(v8f& sum, const v8f& tau_in) {
     const v8f zero = {};
     const v8f max_tau = zero + kMaxTau2;
     v8f tau = tau_in < max_tau ? tau_in : max_tau;  // NaN -> max_tau
@@ -150,7 +158,7 @@ FIRELOOK_INLINE void addRayAlpha(v8f& sum, const v8f& tau_in) {
 }
 
 // Mean over the rays, in [0, 1].
-FIRELOOK_INLINE void finishAlpha(v8f& alpha, const v8f& sum, float samples) {
+FIRELOOK_ALWAYS_INLINE void finishAlpha(v8f& alpha, const v8f& sum, float samples) {
     const v8f zero = {};
     const v8f one = zero + 1.0f;
     const v8f mean = sum / samples;
@@ -177,7 +185,7 @@ void checkDepths(const BakeDescription& description, const FrameFactors& factors
 // pixel's block of 8 and agrees with reconstructImage bit for bit (with fused multiply-adds in
 // the AVX2 build, which copy of the code runs matters).
 template <bool kTwoLayers>
-FIRELOOK_INLINE void alphaSpanOf(const AlphaPlan& plan, size_t first, size_t count, float* alpha_out) {
+FIRELOOK_ALWAYS_INLINE void alphaSpanOf(const AlphaPlan& plan, size_t first, size_t count, float* alpha_out) {
     const v8f zero = {};
     const v8f w_density = zero + plan.w_density, w_lower = zero + plan.w_lower, w_upper = zero + plan.w_upper;
     const size_t whole = count / 8, rest = count % 8;
@@ -253,7 +261,7 @@ struct RgbPlan {
 };
 
 // Horizontal sums of r, g, b into lanes 0..2 (lane 3 = b again).
-FIRELOOK_INLINE void sum3(v4f& out, const v8f& r, const v8f& g, const v8f& b) {
+FIRELOOK_ALWAYS_INLINE void sum3(v4f& out, const v8f& r, const v8f& g, const v8f& b) {
     const v8f rg = __builtin_shufflevector(r, g, 0, 2, 8, 10, 4, 6, 12, 14) +
                    __builtin_shufflevector(r, g, 1, 3, 9, 11, 5, 7, 13, 15);
     const v8f bb = __builtin_shufflevector(b, b, 0, 2, 8, 10, 4, 6, 12, 14) +
@@ -264,7 +272,7 @@ FIRELOOK_INLINE void sum3(v4f& out, const v8f& r, const v8f& g, const v8f& b) {
 }
 
 // rgba of one pixel: rgb = U z clamped (negative and non-finite -> 0), then alpha.
-FIRELOOK_INLINE void rgbPixel(const RgbPlan& plan, size_t pixel, float alpha, float* rgba) {
+FIRELOOK_ALWAYS_INLINE void rgbPixel(const RgbPlan& plan, size_t pixel, float alpha, float* rgba) {
     const size_t rank = static_cast<size_t>(plan.rank);
     const float* u = plan.u + pixel * rank;
     v8f r = {}, g = {}, b = {};
@@ -377,6 +385,161 @@ void reconstructImage(const BakeDescription& description, const FrameFactors& fa
             out[2] = b > 0.0f && std::isfinite(b) ? b : 0.0f;
             out[3] = alpha[i];
         }
+    }
+}
+
+// ---- The resident form (resident_frame.h) ----------------------------------------------------
+namespace {
+
+// What alpha needs from a resident frame: the depth codes of the one or two threshold layers that
+// bracket T_c, and the weights of tau2 as in AlphaPlan.
+struct ResidentAlphaPlan {
+    const float* depth = nullptr;  // DepthTable::depth
+    int last = 0;                  // its last code
+    int lower = 1, upper = 1;      // e_j lanes (1 + j)
+    bool two = false;
+    float w_lower = 0.0f, w_upper = 0.0f, w_density = 0.0f;
+};
+
+ResidentAlphaPlan residentAlphaPlan(const BakeDescription& description, const ResidentFrame& f,
+                                    const ExtinctionParams& extinction) {
+    const ThresholdLerp lerp = thresholdLerp(description.alpha_thresholds, extinction.temperature_threshold);
+    ResidentAlphaPlan plan;
+    plan.depth = f.depth_table->depth.data();
+    plan.last = static_cast<int>(f.depth_table->depth.size()) - 1;
+    plan.lower = 1 + lerp.lower;
+    plan.upper = 1 + lerp.upper;
+    plan.two = lerp.upper != lerp.lower && lerp.t != 0.0f;
+    const double log2e = 1.4426950408889634;
+    plan.w_lower = static_cast<float>(extinction.a() * (plan.two ? 1.0 - lerp.t : 1.0) * log2e);
+    plan.w_upper = static_cast<float>(extinction.a() * (plan.two ? lerp.t : 0.0) * log2e);
+    plan.w_density = static_cast<float>(extinction.b() * log2e);
+    return plan;
+}
+
+// tau2 of one ray from its codes: O_b = D[q], O_a(j) = O_b - 2 D[q - e_j] (codes clamped to the
+// table, so damaged values stay finite).
+FIRELOOK_ALWAYS_INLINE float rayTau(const ResidentAlphaPlan& plan, const int16_t* v) {
+    auto depth = [&](int q) { return plan.depth[std::clamp(q, 0, plan.last)]; };
+    const float o_b = depth(v[0]);
+    float tau = plan.w_density * o_b + plan.w_lower * (o_b - 2.0f * depth(int(v[0]) - int(v[plan.lower])));
+    if (plan.two) tau += plan.w_upper * (o_b - 2.0f * depth(int(v[0]) - int(v[plan.upper])));
+    return tau;
+}
+
+// Mean alpha of a detailed pixel's rays, 8 rays at a time (lanes past the last ray hold tau 0,
+// alpha exactly 0), summed across lanes in a fixed order.
+FIRELOOK_ALWAYS_INLINE float detailedAlpha(const ResidentAlphaPlan& plan, const int16_t* rays, int samples,
+                                           int stride) {
+    v8f sum = {};
+    for (int first = 0; first < samples; first += 8) {
+        v8f tau = {};
+        for (int s = first; s < std::min(samples, first + 8); ++s)
+            tau[s - first] = rayTau(plan, rays + static_cast<size_t>(s) * stride);
+        addRayAlpha(sum, tau);
+    }
+    float total = 0.0f;
+    for (int i = 0; i < 8; ++i) total += sum[i];
+    return std::clamp(total / static_cast<float>(samples), 0.0f, 1.0f);
+}
+
+// alpha_out[i] = alpha of pixel first + i, for i < count (alpha_out has room for count rounded up
+// to 8). Elementwise in the lanes, so a pixel gets the same bits wherever its block starts
+// (pixelAlpha evaluates it alone).
+FIRELOOK_KERNEL_CLONES
+void residentAlphaSpan(const ResidentAlphaPlan& plan, const ResidentFrame& f, size_t first, size_t count,
+                       float* alpha_out) {
+    const int stride = f.depth_stride;
+    for (size_t block = 0; block < count; block += 8) {
+        v8f tau = {};
+        const size_t n = std::min<size_t>(8, count - block);
+        for (size_t i = 0; i < n; ++i) tau[i] = rayTau(plan, f.mean_depth.data() + (first + block + i) * stride);
+        v8f sum = {}, alpha;
+        addRayAlpha(sum, tau);
+        finishAlpha(alpha, sum, 1.0f);
+        store8(alpha_out + block, alpha);
+    }
+    const auto begin = std::lower_bound(f.detailed_pixels.begin(), f.detailed_pixels.end(), static_cast<int32_t>(first));
+    for (auto it = begin; it != f.detailed_pixels.end() && static_cast<size_t>(*it) < first + count; ++it) {
+        const size_t index = static_cast<size_t>(it - f.detailed_pixels.begin());
+        alpha_out[static_cast<size_t>(*it) - first] =
+            detailedAlpha(plan, f.detailed_depth.data() + index * f.samples * stride, f.samples, stride);
+    }
+}
+
+// rgb = U z for pixels [first, first + count): each pixel's W row (int16, rank_stride) against z
+// scaled by u_scale, de-interleaved into 8-lane blocks per channel.
+FIRELOOK_KERNEL_CLONES
+void residentRgbSpan(const ResidentFrame& f, const v8f* zr, const v8f* zg, const v8f* zb, size_t first, size_t count,
+                     const float* alpha, float* rgba) {
+    const int blocks = f.rank_stride / 8;
+    for (size_t i = 0; i < count; ++i) {
+        const size_t pixel = first + i;
+        const int16_t* w = f.w.data() + pixel * f.rank_stride;
+        v8f r = {}, g = {}, b = {};
+        for (int k = 0; k < blocks; ++k) {
+            v8s codes;
+            simd::load(codes, w + 8 * k);
+            const v8f x = __builtin_convertvector(codes, v8f);
+            r += x * zr[k];
+            g += x * zg[k];
+            b += x * zb[k];
+        }
+        v4f out;
+        sum3(out, r, g, b);
+        const v4f zero = {};
+        const v4f largest = zero + std::numeric_limits<float>::max();
+        out = (out > zero) & (out <= largest) ? out : zero;  // NaN, +-inf and negatives -> 0
+        out[3] = alpha[i];
+        std::memcpy(rgba + pixel * 4, &out, sizeof out);
+    }
+}
+
+void checkResident(const BakeDescription& description, const ResidentFrame& f) {
+    const size_t pixels = static_cast<size_t>(std::max(f.pixels, 0));
+    const size_t planes = 1 + description.alpha_thresholds.size();
+    if (f.pixels != description.pixelCount() || f.rank_stride % 8 != 0 || f.rank_stride < f.rank ||
+        f.w.size() < pixels * f.rank_stride || f.u_scale.size() < static_cast<size_t>(f.rank_stride) ||
+        f.depth_stride < static_cast<int>(planes) || f.mean_depth.size() < pixels * f.depth_stride ||
+        f.samples != description.footprint_samples ||
+        f.detailed_depth.size() < f.detailed_pixels.size() * f.samples * f.depth_stride || !f.depth_table ||
+        f.depth_table->depth.empty())
+        throw std::invalid_argument("resident frame does not match the description");
+}
+
+}  // namespace
+
+float pixelAlpha(const BakeDescription& description, const ResidentFrame& frame, int pixel,
+                 const ExtinctionParams& extinction) {
+    checkResident(description, frame);
+    if (pixel < 0 || pixel >= frame.pixels) throw std::invalid_argument("pixel out of range");
+    float alpha[8];
+    residentAlphaSpan(residentAlphaPlan(description, frame, extinction), frame, static_cast<size_t>(pixel), 1, alpha);
+    return alpha[0];
+}
+
+void reconstructImage(const BakeDescription& description, const ResidentFrame& frame, std::span<const float> z,
+                      const ExtinctionParams& extinction, std::span<float> rgba_out) {
+    checkResident(description, frame);
+    const size_t pixels = static_cast<size_t>(frame.pixels);
+    const int rank = frame.rank;
+    if (rgba_out.size() < pixels * 4) throw std::invalid_argument("image output too short");
+    if (static_cast<int>(z.size()) < rank * 3) throw std::invalid_argument("coefficients too short");
+    if (rank > kMaxVectorRank) throw std::invalid_argument("rank above " + std::to_string(kMaxVectorRank));
+    const ResidentAlphaPlan alpha_plan = residentAlphaPlan(description, frame, extinction);
+    // z scaled by U's column scales (U = W u_scale), in 8-lane blocks per channel; 0 past the rank.
+    constexpr int kMaxBlocks = kMaxVectorRank / 8;
+    v8f zblocks[3][kMaxBlocks];
+    const int blocks = frame.rank_stride / 8;
+    for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < blocks * 8; ++k)
+            zblocks[c][k / 8][k % 8] = k < rank ? z[static_cast<size_t>(k) * 3 + c] * frame.u_scale[k] : 0.0f;
+    constexpr size_t kSpan = 4096;
+    float alpha[kSpan];
+    for (size_t first = 0; first < pixels; first += kSpan) {
+        const size_t count = std::min(kSpan, pixels - first);
+        residentAlphaSpan(alpha_plan, frame, first, count, alpha);
+        residentRgbSpan(frame, zblocks[0], zblocks[1], zblocks[2], first, count, alpha, rgba_out.data());
     }
 }
 

@@ -7,6 +7,7 @@
 
 #include "basis/bake_description.h"
 #include "basis/frame_factors.h"
+#include "basis/resident_frame.h"
 #include "look/look_model.h"
 
 namespace firelook::basis {
@@ -22,6 +23,8 @@ struct LookWeights {
 // spans do not match the description (wrong bin or light count, short output).
 void computeCoefficients(const BakeDescription& description, const FrameFactors& factors,
                          const LookWeights& look, std::span<float> z_out);
+void computeCoefficients(const BakeDescription& description, const ResidentFrame& frame, const LookWeights& look,
+                         std::span<float> z_out);
 
 // rgba_out: pixels x 4, premultiplied linear RGBA, top row first. u_float is
 // decodeU(factors). Negative radiance (truncation ringing) is clamped to 0 and a
@@ -38,6 +41,16 @@ void reconstructImage(const BakeDescription& description, const FrameFactors& fa
 // Bit for bit the alpha reconstructImage writes. Throws std::invalid_argument for
 // a pixel out of range or depth layers too short.
 float pixelAlpha(const BakeDescription& description, const FrameFactors& factors, int pixel,
+                 const ExtinctionParams& extinction);
+
+// The same two, on the resident form (resident_frame.h), which the runtime world keeps: U read
+// as its int16 grid values (z scaled by the column scales instead), alpha from the depth codes
+// through the frame's DepthTable. Agrees with the FrameFactors versions on expandFrame(frame)
+// up to the half rounding of U there (the resident U is the more exact); pixelAlpha gives the
+// alpha reconstructImage writes, bit for bit. Ranks above 1024 throw std::invalid_argument.
+void reconstructImage(const BakeDescription& description, const ResidentFrame& frame, std::span<const float> z,
+                      const ExtinctionParams& extinction, std::span<float> rgba_out);
+float pixelAlpha(const BakeDescription& description, const ResidentFrame& frame, int pixel,
                  const ExtinctionParams& extinction);
 
 }  // namespace firelook::basis

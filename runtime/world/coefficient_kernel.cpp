@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "basis/parameter_grid.h"
+#include "basis/simd.h"
 
 namespace firelook::runtime {
 namespace {
@@ -20,15 +21,11 @@ inline void axpy3(int rank, const float* __restrict column, float wr, float wg, 
 
 }  // namespace
 
-// Two builds of the kernel, picked once at load time by the CPU (GCC function multi-versioning):
-// AVX2 + FMA where available (x86-64-v3), the baseline elsewhere.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("arch=x86-64-v3", "default")))
-#endif
-void computeCoefficientsFast(const basis::BakeDescription& d, const basis::FrameFactors& f,
+// Two builds of the kernel (basis/simd.h): AVX2 + FMA where available, the baseline elsewhere.
+FIRELOOK_KERNEL_CLONES
+void computeCoefficientsFast(const basis::BakeDescription& d, const float* svt, int rank,
                              const ExtinctionParams& extinction, const Rgb* rbf, const Rgb* lights, float* scratch,
                              float* z_out) {
-    const int rank = f.rank;
     const int bins = d.bins.count;
     const int per_point = d.columnsPerPoint();
     float* r = scratch;
@@ -38,7 +35,7 @@ void computeCoefficientsFast(const basis::BakeDescription& d, const basis::Frame
     const basis::GridWeights grid = basis::interpolationWeights(d.axes, extinction);
     for (int p = 0; p < grid.count; ++p) {
         const float gw = grid.weight[p];
-        const float* columns = f.svt.data() + static_cast<size_t>(grid.point[p]) * per_point * rank;
+        const float* columns = svt + static_cast<size_t>(grid.point[p]) * per_point * rank;
         for (int c = 0; c < per_point; ++c) {
             const Rgb w = gw * (c < bins ? rbf[c] : lights[c - bins]);
             if (w.r == 0.0f && w.g == 0.0f && w.b == 0.0f) continue;

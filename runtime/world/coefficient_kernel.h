@@ -5,14 +5,14 @@
 #pragma once
 
 #include "basis/bake_description.h"
-#include "basis/frame_factors.h"
 #include "look/look_model.h"
 
 namespace firelook::runtime {
 
+// svt: S V^T of the frame (columns x rank, column-major, FrameFactors::svt or ResidentFrame::svt);
 // rbf: bins entries, lights: one per baked light; scratch: >= 3 * rank floats;
 // z_out: rank x 3, z_out[k * 3 + channel].
-void computeCoefficientsFast(const basis::BakeDescription& description, const basis::FrameFactors& factors,
+void computeCoefficientsFast(const basis::BakeDescription& description, const float* svt, int rank,
                              const ExtinctionParams& extinction, const Rgb* rbf, const Rgb* lights, float* scratch,
                              float* z_out);
 

@@ -1,11 +1,12 @@
 // Optional host allocator for the world's large buffers (images, flare
-// images, coefficient arrays, decoded U copies): a game engine can route them
+// images, coefficient arrays, resident frames): a game engine can route them
 // into its own heap. Small bookkeeping and the package reader's buffers (the
 // compressed sections and FrameFactors) use the C++ heap.
 #pragma once
 
 #include <cstddef>
 #include <cstdlib>
+#include <memory_resource>
 #include <new>
 
 namespace firelook::runtime {
@@ -45,6 +46,24 @@ struct HostAllocator {
     bool operator==(const HostAllocator<U>& o) const {
         return hooks == o.hooks;
     }
+};
+
+// The same hooks as a std::pmr::memory_resource, for the resident frames (basis/resident_frame.h).
+// Alignments up to 16 bytes, as the hooks promise.
+class HostMemoryResource final : public std::pmr::memory_resource {
+  public:
+    explicit HostMemoryResource(const MemoryHooks* hooks) : hooks_(hooks) {}
+
+  private:
+    void* do_allocate(size_t bytes, size_t alignment) override {
+        if (alignment > 16) throw std::bad_alloc();
+        return HostAllocator<std::byte>(hooks_).allocate(bytes == 0 ? 1 : bytes);
+    }
+    void do_deallocate(void* p, size_t bytes, size_t) override {
+        HostAllocator<std::byte>(hooks_).deallocate(static_cast<std::byte*>(p), bytes);
+    }
+    bool do_is_equal(const std::pmr::memory_resource& other) const noexcept override { return this == &other; }
+    const MemoryHooks* hooks_;
 };
 
 }  // namespace firelook::runtime

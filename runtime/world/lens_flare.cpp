@@ -7,6 +7,8 @@
 #include <cstring>
 #include <limits>
 
+#include "basis/simd.h"
+
 namespace firelook::runtime {
 namespace {
 
@@ -15,24 +17,22 @@ namespace {
 // extensions (the auto-vectoriser leaves loops with selects and divisions scalar); the bilinear
 // taps use 4-float RGB0 vectors, one load per tap; the rest are plain loops over planar rows.
 // Measured on the 2-core development machine: 512x512 in 1.7 ms (tests/world/bench_runtime).
-#define FIRELOOK_FLARE_INLINE inline __attribute__((always_inline))
+using simd::v4f;
+using simd::v8f;
+using simd::v8i;
 
-typedef float v4f __attribute__((vector_size(16)));
-typedef float v8f __attribute__((vector_size(32)));
-typedef int32_t v8i __attribute__((vector_size(32)));
-
-FIRELOOK_FLARE_INLINE float finiteNonNegative(float v) {
+FIRELOOK_ALWAYS_INLINE float finiteNonNegative(float v) {
     return v > 0.0f && v <= std::numeric_limits<float>::max() ? v : 0.0f;
 }
 
-FIRELOOK_FLARE_INLINE void load4(v4f& v, const float* p) { std::memcpy(&v, p, sizeof v); }
-FIRELOOK_FLARE_INLINE void store4(float* p, const v4f& v) { std::memcpy(p, &v, sizeof v); }
-FIRELOOK_FLARE_INLINE void load8(v8f& v, const float* p) { std::memcpy(&v, p, sizeof v); }
-FIRELOOK_FLARE_INLINE void store8(float* p, const v8f& v) { std::memcpy(p, &v, sizeof v); }
+FIRELOOK_ALWAYS_INLINE void load4(v4f& v, const float* p) { std::memcpy(&v, p, sizeof v); }
+FIRELOOK_ALWAYS_INLINE void store4(float* p, const v4f& v) { std::memcpy(p, &v, sizeof v); }
+FIRELOOK_ALWAYS_INLINE void load8(v8f& v, const float* p) { std::memcpy(&v, p, sizeof v); }
+FIRELOOK_ALWAYS_INLINE void store8(float* p, const v8f& v) { std::memcpy(p, &v, sizeof v); }
 
 // exp(x) for x <= 0 (clamped at -87, where exp is still a normal float), 8 lanes: Cephes expf
 // range reduction and polynomial, about 1 float ulp.
-FIRELOOK_FLARE_INLINE void expNonPositive8(v8f& y, const v8f& x_in) {
+FIRELOOK_ALWAYS_INLINE void expNonPositive8(v8f& y, const v8f& x_in) {
     const v8f lowest = v8f{} - 87.0f;
     const v8f x = x_in > lowest ? x_in : lowest;
     const v8i n = __builtin_convertvector(x * 1.44269504088896341f - 0.5f, v8i);
@@ -76,7 +76,7 @@ struct Layout {
     float* line;    // 3 x w2: the vertical streak's backward pass
 };
 
-FIRELOOK_FLARE_INLINE Layout layout(int width, int height, float* scratch) {
+FIRELOOK_ALWAYS_INLINE Layout layout(int width, int height, float* scratch) {
     Layout l;
     l.w2 = (width + 1) / 2;
     l.h2 = (height + 1) / 2;
@@ -99,7 +99,7 @@ FIRELOOK_FLARE_INLINE Layout layout(int width, int height, float* scratch) {
 
 // Bright pass of 8 full-resolution RGBA pixels (32 floats) into planar r, g, b, each times 1/4
 // (the 2x2 box average); any |= the bits of every k.
-FIRELOOK_FLARE_INLINE void brightOf8(const float* rgba, float threshold, v8f& r, v8f& g, v8f& b, v8i& any) {
+FIRELOOK_ALWAYS_INLINE void brightOf8(const float* rgba, float threshold, v8f& r, v8f& g, v8f& b, v8i& any) {
     v8f p01, p23, p45, p67;
     load8(p01, rgba);
     load8(p23, rgba + 8);
@@ -129,7 +129,7 @@ FIRELOOK_FLARE_INLINE void brightOf8(const float* rgba, float threshold, v8f& r,
 
 // 1. Bright pass at full resolution, 2x2 box-averaged into the low-res planes, 16 full-resolution
 // pixels (8 low-res) at a time. Returns whether any light passed the threshold.
-FIRELOOK_FLARE_INLINE bool brightPass(const float* rgba, int width, int height, float threshold, const Layout& l) {
+FIRELOOK_ALWAYS_INLINE bool brightPass(const float* rgba, int width, int height, float threshold, const Layout& l) {
     std::fill(l.bright, l.bright + 3 * l.n2, 0.0f);
     v8i any = {};
     uint32_t any_scalar = 0;
@@ -174,7 +174,7 @@ FIRELOOK_FLARE_INLINE bool brightPass(const float* rgba, int width, int height, 
 }
 
 // The bright planes as RGB0 pixels with a zero border, for the bilinear taps.
-FIRELOOK_FLARE_INLINE void packRgb0(const Layout& l) {
+FIRELOOK_ALWAYS_INLINE void packRgb0(const Layout& l) {
     std::fill(l.rgb0, l.rgb0 + 4 * l.pw, 0.0f);
     std::fill(l.rgb0 + 4 * l.pw * (static_cast<size_t>(l.h2) + 1), l.rgb0 + 4 * l.pw * (static_cast<size_t>(l.h2) + 2),
               0.0f);
@@ -196,7 +196,7 @@ FIRELOOK_FLARE_INLINE void packRgb0(const Layout& l) {
 
 // 2. Streaks into l.flare (overwritten): the two-sided exponential blur of the bright image along
 // rows (and columns), times `gain`: a forward pass f, a backward pass k, out = norm (f + k - v).
-FIRELOOK_FLARE_INLINE void streaks(const Layout& l, int directions, float a, float gain) {
+FIRELOOK_ALWAYS_INLINE void streaks(const Layout& l, int directions, float a, float gain) {
     const float norm = gain * (1.0f - a) / (1.0f + a);
     // Rows: four rows x three channels at a time, so that twelve recursions overlap.
     constexpr int kRows = 4;
@@ -252,7 +252,7 @@ struct Geometry {
 
 // acc[p] += gw[p] * (bilinear of the padded RGB0 row `src` at padded x gx[p]) for p in [p0, p1).
 // gx in (0, w2 + 1): both taps inside the padded row.
-FIRELOOK_FLARE_INLINE void addRowTaps(const Layout& l, const float* src, int p0, int p1) {
+FIRELOOK_ALWAYS_INLINE void addRowTaps(const Layout& l, const float* src, int p0, int p1) {
     for (int p = p0; p < p1; ++p) {
         const float x = l.gx[p];
         const int ix = static_cast<int>(x);
@@ -267,7 +267,7 @@ FIRELOOK_FLARE_INLINE void addRowTaps(const Layout& l, const float* src, int p0,
 }
 
 // acc[p] += tint gw[p] (bilinear of the padded RGB0 image at padded (gx[p], gy[p])), p in [0, w2).
-FIRELOOK_FLARE_INLINE void addImageTaps(const Layout& l, const v4f& tint) {
+FIRELOOK_ALWAYS_INLINE void addImageTaps(const Layout& l, const v4f& tint) {
     for (int p = 0; p < l.w2; ++p) {
         const float x = l.gx[p], y = l.gy[p];
         const int ix = static_cast<int>(x), iy = static_cast<int>(y);
@@ -287,7 +287,7 @@ FIRELOOK_FLARE_INLINE void addImageTaps(const Layout& l, const v4f& tint) {
 }
 
 // 3. Ghosts and halo of one low-res row q, added into l.flare.
-FIRELOOK_FLARE_INLINE void ghostsAndHalo(const Layout& l, const Geometry& geo, const LensFlareSettings& s, int q) {
+FIRELOOK_ALWAYS_INLINE void ghostsAndHalo(const Layout& l, const Geometry& geo, const LensFlareSettings& s, int q) {
     const float py = 2.0f * static_cast<float>(q) + 1.0f;
     const float dy = py - geo.cy;
     const float inv_radius = 1.0f / geo.radius;
@@ -383,7 +383,7 @@ FIRELOOK_FLARE_INLINE void ghostsAndHalo(const Layout& l, const Geometry& geo, c
 // 4. Bilinear 2x upsampling of l.flare (edges clamped) times `gain` into the RGBA output, alpha 0.
 // Output pixels 2P and 2P + 1 of a row are 0.25 V[P-1] + 0.75 V[P] and 0.75 V[P] + 0.25 V[P+1],
 // V the row of RGB0 low-res values: two 8-float loads from V, one 8-float store.
-FIRELOOK_FLARE_INLINE void upsample(const Layout& l, int width, int height, float gain, float* flare_out) {
+FIRELOOK_ALWAYS_INLINE void upsample(const Layout& l, int width, int height, float gain, float* flare_out) {
     float* v = l.up;  // pw RGB0 entries: v[0] = V[0], v[1 + P] = V[P], v[w2 + 1] = V[w2 - 1]
     const v8f w_left = {0.25f, 0.25f, 0.25f, 0.25f, 0.75f, 0.75f, 0.75f, 0.75f};
     const v8f w_right = {0.75f, 0.75f, 0.75f, 0.75f, 0.25f, 0.25f, 0.25f, 0.25f};
@@ -430,9 +430,7 @@ FIRELOOK_FLARE_INLINE void upsample(const Layout& l, int width, int height, floa
 
 // The whole flare for normalised settings. Two builds, picked once at load time by the CPU (as in
 // coefficient_kernel.cpp): AVX2 + FMA where available, the baseline elsewhere.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("arch=x86-64-v3", "default")))
-#endif
+FIRELOOK_KERNEL_CLONES
 void flareKernel(const float* rgba_in, int width, int height, const LensFlareSettings& s, float* scratch,
                  float* flare_out) {
     const Layout l = layout(width, height, scratch);

@@ -31,19 +31,17 @@ ResolvedLook resolveLook(const Look& look, const basis::BakeDescription& d) {
 
 void sampleKeyframes(std::span<const Keyframe> keys, double frame, ExtinctionParams& extinction_out, Rgb* rbf_out,
                      Rgb* lights_out) {
-    const size_t n = keys.size();
-    size_t hi = 0;
-    while (hi < n && keys[hi].frame <= frame) ++hi;  // first key after `frame` (few keys: linear scan)
-    if (hi == 0 || hi == n || !(keys[hi].frame > keys[hi - 1].frame)) {
-        const ResolvedLook& k = keys[hi == 0 ? 0 : hi - 1].look;
+    const KeyframeBracket bracket = bracketKeyframes(keys, frame);
+    if (bracket.lo == bracket.hi) {
+        const ResolvedLook& k = keys[bracket.lo].look;
         extinction_out = k.extinction;
         std::copy(k.rbf.begin(), k.rbf.end(), rbf_out);
         std::copy(k.lights.begin(), k.lights.end(), lights_out);
         return;
     }
-    const ResolvedLook& a = keys[hi - 1].look;
-    const ResolvedLook& b = keys[hi].look;
-    const double t = std::clamp((frame - keys[hi - 1].frame) / (keys[hi].frame - keys[hi - 1].frame), 0.0, 1.0);
+    const ResolvedLook& a = keys[bracket.lo].look;
+    const ResolvedLook& b = keys[bracket.hi].look;
+    const double t = bracket.t;
     const auto lerp = [t](double x, double y) { return (1.0 - t) * x + t * y; };
     const float s = static_cast<float>(1.0 - t), u = static_cast<float>(t);
     extinction_out.temperature_threshold = lerp(a.extinction.temperature_threshold, b.extinction.temperature_threshold);

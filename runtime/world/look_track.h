@@ -21,6 +21,7 @@
 
 #include "basis/bake_description.h"
 #include "look/look.h"
+#include "world/keyframe_bracket.h"
 
 namespace firelook::runtime {
 
@@ -44,9 +45,10 @@ struct Keyframe {
     ResolvedLook look;
 };
 
-// The interpolated look at `frame`: before the first key the first, after the
-// last the last, between keys linear with t = (frame - f0) / (f1 - f0) in the
-// form (1 - t) x + t y, as interpolateLooks(). Keys must be sorted by frame and
+// The interpolated look at `frame`: the keys and weight t of bracketKeyframes()
+// (keyframe_bracket.h: before the first key the first, from the last on the
+// last, between keys t = (frame - f0) / (f1 - f0)), blended in the form
+// (1 - t) x + t y, as interpolateLooks(). Keys must be sorted by frame and
 // non-empty. rbf_out has bins entries, lights_out one per light.
 // Allocation-free.
 void sampleKeyframes(std::span<const Keyframe> keys, double frame, ExtinctionParams& extinction_out,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <new>
 #include <stdexcept>
+#include <utility>
 
 #include "common/error.h"
 #include "look/look.h"
@@ -39,7 +40,17 @@ Package::Package(basis::BasisPackage package) : package_(std::move(package)), na
 }
 
 std::shared_ptr<const Package> Package::open(const std::filesystem::path& file) {
-    std::shared_ptr<Package> p(new Package(corruptOnFailure([&] { return basis::BasisPackage::open(file); })));
+    return checked(corruptOnFailure([&] { return basis::BasisPackage::open(file); }));
+}
+
+std::shared_ptr<const Package> Package::openMemory(std::span<const std::byte> bytes,
+                                                   package::PackageReader::MemoryOwnership ownership,
+                                                   const std::string& name) {
+    return checked(corruptOnFailure([&] { return basis::BasisPackage::openMemory(bytes, ownership, name); }));
+}
+
+std::shared_ptr<const Package> Package::checked(basis::BasisPackage package) {
+    std::shared_ptr<Package> p(new Package(std::move(package)));
     const basis::BakeDescription& d = p->description();
     const auto corrupt = [&](const std::string& problem) { throw Error(ErrorCode::Corrupt, p->name_ + ": " + problem); };
     if (p->frame_numbers_.empty()) corrupt("the package has no baked frames");
@@ -57,6 +68,19 @@ std::shared_ptr<const Package> Package::open(const std::filesystem::path& file) 
 
 basis::FrameFactors Package::loadSlot(int slot) const {
     return corruptOnFailure([&] { return package_.loadFrame(frame_numbers_[slot]); });
+}
+
+basis::ResidentFrame Package::loadResidentSlot(int slot, std::pmr::memory_resource* memory,
+                                               std::shared_ptr<const basis::DepthTable> table) const {
+    return corruptOnFailure(
+        [&] { return package_.loadResidentFrame(frame_numbers_[slot], memory, std::move(table)); });
+}
+
+void Package::loadResidentSlot(int slot, basis::ResidentFrame& out, basis::FrameReadBuffers& buffers) const {
+    corruptOnFailure([&] {
+        package_.loadResidentFrame(frame_numbers_[slot], out, buffers);
+        return 0;
+    });
 }
 
 int Package::slotAtOrBelow(double frame_number) const {

@@ -4,8 +4,10 @@
 // from several threads at once (the package reader's const members are).
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -20,11 +22,18 @@ class Package {
     // anything else wrong with the content (the basis layer's checks, and what
     // the runtime relies on: at least one frame, a non-empty image).
     static std::shared_ptr<const Package> open(const std::filesystem::path& file);
+    // The same checks and errors for a package held in memory; `name` stands for the file in every
+    // message and in name(). Borrow uses the bytes in place: they must be 64-byte aligned and stay
+    // valid and unchanged while the Package lives (instances and worlds share it through
+    // shared_ptr, and frames are read from it on demand). Copy takes its own aligned copy now.
+    static std::shared_ptr<const Package> openMemory(std::span<const std::byte> bytes,
+                                                     package::PackageReader::MemoryOwnership ownership,
+                                                     const std::string& name);
 
     const basis::BakeDescription& description() const { return package_.description(); }
     const basis::BasisPackage& basis() const { return package_; }
-    const std::filesystem::path& file() const { return package_.file(); }
-    const std::string& name() const { return name_; }  // the path as text, for messages
+    const std::filesystem::path& file() const { return package_.file(); }  // or openMemory's name
+    const std::string& name() const { return name_; }  // the path (or memory name) as text, for messages
 
     // Baked frames in increasing frame number; frame slots index this list.
     int frameCount() const { return static_cast<int>(frame_numbers_.size()); }
@@ -40,9 +49,17 @@ class Package {
     // Decompresses one frame (by slot). Allocates; not for the hot path. Throws
     // firelook::Error (a section of the wrong shape is Corrupt).
     basis::FrameFactors loadSlot(int slot) const;
+    // The frame in the resident form the world keeps (basis/resident_frame.h), its memory from
+    // `memory`, reusing `table` when the frame's depth grid is the same. Throws like loadSlot.
+    basis::ResidentFrame loadResidentSlot(int slot, std::pmr::memory_resource* memory,
+                                          std::shared_ptr<const basis::DepthTable> table) const;
+    // The same into `out`, reusing its buffers and `buffers` (one per thread).
+    void loadResidentSlot(int slot, basis::ResidentFrame& out, basis::FrameReadBuffers& buffers) const;
 
   private:
     explicit Package(basis::BasisPackage package);
+    // What open() and openMemory() share: the runtime's checks of the content.
+    static std::shared_ptr<const Package> checked(basis::BasisPackage package);
     basis::BasisPackage package_;
     std::string name_;
     std::vector<int> frame_numbers_;

@@ -53,19 +53,20 @@ int World::acquirePackage(std::shared_ptr<const Package> package) {
     return static_cast<int>(packages_.size()) - 1;
 }
 
-// One empty cache entry per frame; decoded U goes through the host's allocator (firelook.h).
+// One empty cache entry per frame; resident frames go through the host's allocator (firelook.h).
 void World::resetFrames(PackageEntry& e) {
     e.frames.clear();
-    e.frames.reserve(e.package->frameCount());
-    for (int f = 0; f < e.package->frameCount(); ++f)
-        e.frames.push_back(FrameEntry{nullptr, HostVector<float>(HostAllocator<float>(&settings_.memory)), 0, 0});
+    e.frames.resize(static_cast<size_t>(e.package->frameCount()));
+    e.depth_table.reset();
 }
 
 void World::releasePackage(int index) {
     PackageEntry& e = packages_[index];
     if (--e.users > 0) return;
     for (FrameEntry& f : e.frames) cache_bytes_ -= f.bytes;
+    if (e.depth_table) cache_bytes_ -= e.depth_table->depth.size() * sizeof(float);
     e.frames.clear();
+    e.depth_table.reset();
     e.package.reset();
 }
 
@@ -210,11 +211,18 @@ const Package& World::package(InstanceHandle h) const { return *packages_[packag
 World::FrameEntry& World::residentFrame(int package_index, int slot) {
     PackageEntry& pe = packages_[package_index];
     FrameEntry& e = pe.frames[slot];
-    if (!e.factors) {
-        auto f = std::make_unique<basis::FrameFactors>(pe.package->loadSlot(slot));
-        e.bytes = f->u_half.size() * sizeof(uint16_t) +
-                  (f->svt.size() + f->depth_density.size() + f->depth_sigmoid.size()) * sizeof(float);
-        e.factors = std::move(f);
+    if (!e.frame) {
+        std::unique_ptr<basis::ResidentFrame> f =
+            spare_ ? std::move(spare_) : std::make_unique<basis::ResidentFrame>(&frame_memory_);
+        f->depth_table = pe.depth_table;  // reused when the frame's grid is the same
+        pe.package->loadResidentSlot(slot, *f, read_buffers_);  // on a throw the buffers are freed
+        if (f->depth_table != pe.depth_table) {  // a new depth grid (the first frame, or a repacked one)
+            if (pe.depth_table) cache_bytes_ -= pe.depth_table->depth.size() * sizeof(float);
+            pe.depth_table = f->depth_table;
+            cache_bytes_ += pe.depth_table->depth.size() * sizeof(float);
+        }
+        e.bytes = f->bytes();
+        e.frame = std::move(f);
         cache_bytes_ += e.bytes;
         ++frame_loads_;
     }
@@ -222,18 +230,10 @@ World::FrameEntry& World::residentFrame(int package_index, int slot) {
     return e;
 }
 
-void World::ensureUFloat(FrameEntry& e) {
-    if (!e.u_float.empty() || e.factors->u_half.empty()) return;
-    const std::vector<float> decoded = basis::decodeU(*e.factors);
-    e.u_float.assign(decoded.begin(), decoded.end());
-    e.bytes += e.u_float.size() * sizeof(float);
-    cache_bytes_ += e.u_float.size() * sizeof(float);
-}
-
 size_t World::cachedFrames() const {
     size_t n = 0;
     for (const PackageEntry& p : packages_)
-        for (const FrameEntry& f : p.frames) n += f.factors ? 1 : 0;
+        for (const FrameEntry& f : p.frames) n += f.frame ? 1 : 0;
     return n;
 }
 
@@ -242,12 +242,14 @@ void World::trimCache() {
         FrameEntry* oldest = nullptr;
         for (PackageEntry& p : packages_)
             for (FrameEntry& f : p.frames)
-                if (f.factors && f.last_used < update_count_ && (!oldest || f.last_used < oldest->last_used))
+                if (f.frame && f.last_used < update_count_ && (!oldest || f.last_used < oldest->last_used))
                     oldest = &f;
-        if (!oldest) return;  // everything cached is in use by this update
+        if (!oldest) break;  // everything cached is in use by this update
         cache_bytes_ -= oldest->bytes;
-        *oldest = FrameEntry{nullptr, HostVector<float>(HostAllocator<float>(&settings_.memory)), 0, 0};
+        if (!spare_) spare_ = std::move(oldest->frame);
+        *oldest = FrameEntry{};
     }
+    if (spare_ && cacheBytes() > settings_.frame_cache_bytes) spare_.reset();
 }
 
 void World::update(double dt) {
@@ -289,7 +291,7 @@ void World::update(double dt) {
     for (size_t i = 0; i < n; ++i) {
         const int pkg = package_index_[i];
         const FrameEntry& e = residentFrame(pkg, frame_slot_[i]);
-        computeCoefficientsFast(packages_[pkg].package->description(), *e.factors, extinction_[i],
+        computeCoefficientsFast(packages_[pkg].package->description(), e.frame->svt.data(), e.frame->rank, extinction_[i],
                                 rbf_.data() + i * bins_stride_, lights_.data() + i * lights_stride_, scratch_.data(),
                                 z_.data() + i * z_stride_);
     }
@@ -298,9 +300,8 @@ void World::update(double dt) {
     for (size_t i = 0; i < n; ++i) {
         if (!outputs_[i].image) continue;
         const int pkg = package_index_[i];
-        FrameEntry& e = residentFrame(pkg, frame_slot_[i]);
-        ensureUFloat(e);
-        basis::reconstructImage(packages_[pkg].package->description(), *e.factors, e.u_float,
+        const FrameEntry& e = residentFrame(pkg, frame_slot_[i]);
+        basis::reconstructImage(packages_[pkg].package->description(), *e.frame,
                                 std::span<const float>(z_.data() + i * z_stride_, z_stride_), extinction_[i],
                                 image_[i]);
     }
@@ -315,6 +316,14 @@ void World::update(double dt) {
 
     std::fill(updated_.begin(), updated_.end(), uint8_t{1});
     trimCache();
+}
+
+size_t World::instanceBytes() const {
+    size_t bytes = (rbf_.capacity() + lights_.capacity()) * sizeof(Rgb) +
+                   (z_.capacity() + scratch_.capacity() + flare_scratch_.capacity()) * sizeof(float);
+    for (const HostVector<float>& image : image_) bytes += image.capacity() * sizeof(float);
+    for (const HostVector<float>& flare : flare_) bytes += flare.capacity() * sizeof(float);
+    return bytes;
 }
 
 InstanceState World::state(InstanceHandle h) const {

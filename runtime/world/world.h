@@ -18,12 +18,16 @@
 // is shown for positions in [f, next baked frame).
 //
 // Shared factors and memory: all instances of one package in a world share one
-// cache entry per frame (the decompressed factors, plus U decoded to float
-// once, only when some instance asks for a CPU image). After each update, if
+// cache entry per frame, the frame in its resident form (basis/resident_frame.h:
+// the codec's quantised values, about a third of the float layout, decoded in
+// about the time it takes to read them). After each update, if
 // the cache exceeds WorldSettings::frame_cache_bytes, the least recently used
 // frames not used by this update are evicted; frames used by the current
 // update are never evicted, so the bound can be exceeded by exactly the frames
-// in use at once. Different worlds keep separate caches.
+// in use at once. The buffers of one evicted frame are kept (and counted) for
+// the next frame to load into, while that stays within the budget, so
+// streaming frames in and out needs no fresh memory. Different worlds keep
+// separate caches.
 //
 // Allocation: update() allocates only when a frame is loaded into the cache
 // (I/O, decompression); in steady state it is allocation-free. Creating
@@ -123,8 +127,12 @@ class World {
     void update(double dt);
     InstanceState state(InstanceHandle instance) const;
 
-    // The frame cache (for tests and statistics).
-    size_t cacheBytes() const { return cache_bytes_; }
+    // The frame cache (for tests and statistics): resident frames, their depth tables and the
+    // spare frame's buffers.
+    size_t cacheBytes() const { return cache_bytes_ + (spare_ ? spare_->bytes() : 0); }
+    // Everything the world holds for its instances besides the cache: per-instance images, flare
+    // images, coefficients and looks, and the scratch buffers.
+    size_t instanceBytes() const;
     size_t cachedFrames() const;
     uint64_t frameLoads() const { return frame_loads_; }
 
@@ -133,14 +141,14 @@ class World {
     using HostVector = std::vector<T, HostAllocator<T>>;
 
     struct FrameEntry {
-        std::unique_ptr<basis::FrameFactors> factors;
-        HostVector<float> u_float;
+        std::unique_ptr<basis::ResidentFrame> frame;
         uint64_t last_used = 0;
         size_t bytes = 0;
     };
     struct PackageEntry {
         std::shared_ptr<const Package> package;
         std::vector<FrameEntry> frames;  // by slot
+        std::shared_ptr<const basis::DepthTable> depth_table;  // shared by its frames, counted once
         int users = 0;
     };
     void resetFrames(PackageEntry& entry);
@@ -150,10 +158,10 @@ class World {
     void releasePackage(int index);
     void ensureStrides(const Package& package);
     FrameEntry& residentFrame(int package_index, int slot);
-    void ensureUFloat(FrameEntry& entry);
     void trimCache();
 
     WorldSettings settings_;
+    HostMemoryResource frame_memory_{&settings_.memory};
     HandlePool<int32_t> handles_{HandleKind::Instance};  // handle -> dense index
     std::vector<InstanceHandle> dense_to_handle_;
     std::vector<PackageEntry> packages_;
@@ -176,6 +184,8 @@ class World {
     HostVector<float> scratch_;        // 3 x max rank
     HostVector<float> flare_scratch_;  // lens flare scratch, largest image
 
+    basis::FrameReadBuffers read_buffers_;        // section reads, reused
+    std::unique_ptr<basis::ResidentFrame> spare_;  // an evicted frame's buffers, for the next load
     uint64_t update_count_ = 0;
     size_t cache_bytes_ = 0;
     uint64_t frame_loads_ = 0;

@@ -1,9 +1,8 @@
 #include "look_resolution.h"
 
-#include <algorithm>
-
 #include "fl_check.h"
 #include "look/look.h"
+#include "world/keyframe_bracket.h"
 
 namespace firelook::viewer {
 namespace {
@@ -33,16 +32,12 @@ double binCentre(const fl_package_info& info, int bin) { return binsOf(info).cen
 
 std::string keyedLookJson(const std::vector<Keyframe>& keys, double frame_position, const fl_package_info& info) {
     if (keys.empty()) throw ViewerError("no keyframes");
-    size_t hi = 0;
-    while (hi < keys.size() && keys[hi].frame <= frame_position) ++hi;
-    if (hi == 0 || hi == keys.size() || !(keys[hi].frame > keys[hi - 1].frame))
-        return lookEditToJson(keys[hi == 0 ? 0 : hi - 1].look);
+    const runtime::KeyframeBracket bracket = runtime::bracketKeyframes(keys, frame_position);
+    if (bracket.lo == bracket.hi) return lookEditToJson(keys[bracket.lo].look);
     try {
-        const Look a = parseLook(lookEditToJson(keys[hi - 1].look), "key");
-        const Look b = parseLook(lookEditToJson(keys[hi].look), "key");
-        const double t =
-            std::clamp((frame_position - keys[hi - 1].frame) / (keys[hi].frame - keys[hi - 1].frame), 0.0, 1.0);
-        return lookToJson(interpolateLooks(a, b, t, binsOf(info)));
+        const Look a = parseLook(lookEditToJson(keys[bracket.lo].look), "key");
+        const Look b = parseLook(lookEditToJson(keys[bracket.hi].look), "key");
+        return lookToJson(interpolateLooks(a, b, bracket.t, binsOf(info)));
     } catch (const std::exception& e) {
         throw ViewerError(e.what());
     }

@@ -22,10 +22,11 @@ std::vector<Rgb3> resolveBins(const LookEdit& look, const fl_package_info& info)
 // The temperature at the centre of bin i.
 double binCentre(const fl_package_info& info, int bin);
 
-// Look-file JSON of the keyed look at `frame_position` (held before the first and after the last
-// key, linear in every parameter and each bin's emissivity between keys, as the runtime's
-// keyframes; the runtime blends the fitted RBF weights, equal to blending the emissivity wherever
-// the fit interpolates exactly). keys must be non-empty and sorted.
+// Look-file JSON of the keyed look at `frame_position`: the keys and weight the runtime's
+// keyframes use (runtime/world/keyframe_bracket.h: held before the first key, from the last on and
+// exactly on a key), linear in every parameter and each bin's emissivity between keys (the runtime
+// blends the fitted RBF weights, equal to blending the emissivity wherever the fit interpolates
+// exactly). keys must be non-empty and sorted.
 std::string keyedLookJson(const std::vector<Keyframe>& keys, double frame_position, const fl_package_info& info);
 
 }  // namespace firelook::viewer

@@ -1,5 +1,6 @@
 // Every reader error code from a crafted file: truncation at every length, a flipped byte in
-// every region, version and feature checks, and files that are not packages at all.
+// every region, version and feature checks, and files that are not packages at all. Every crafted
+// file given to expectOpenError is also opened from memory, borrowed and copied, for the same error.
 
 #include <gtest/gtest.h>
 
@@ -54,6 +55,11 @@ class CorruptPackage : public ::testing::Test {
                 },
                 code, path);
         }
+        // The same bytes held in memory go through exactly the same checks (memory_source_test.cpp).
+        const std::filesystem::path name = "archive.pak:crafted.firelook";
+        const test::AlignedBytes held(bytes);
+        for (const auto ownership : {PackageReader::MemoryOwnership::Borrow, PackageReader::MemoryOwnership::Copy})
+            expectPackageError([&] { PackageReader::openMemory(held.view(), ownership, name); }, code, name);
     }
 
     // Opens the crafted file and reads every section; returns the frames whose read failed as Corrupt.

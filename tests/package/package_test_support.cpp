@@ -73,6 +73,13 @@ void reseal(std::vector<std::byte>& file) {
     setHeader(file, header);
 }
 
+AlignedBytes::AlignedBytes(std::span<const std::byte> bytes, std::size_t misalignment)
+    : storage_(bytes.size() + 2 * kSectionAlignment), size_(bytes.size()) {
+    const auto address = reinterpret_cast<std::uintptr_t>(storage_.data());
+    start_ = (kSectionAlignment - address % kSectionAlignment) % kSectionAlignment + misalignment % kSectionAlignment;
+    if (!bytes.empty()) std::memcpy(storage_.data() + start_, bytes.data(), bytes.size());
+}
+
 void expectPackageError(const std::function<void()>& action, ErrorCode code,
                         const std::filesystem::path& file) {
     try {

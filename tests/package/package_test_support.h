@@ -42,6 +42,21 @@ void reseal(std::vector<std::byte>& file);
 // XXH3-64 as the format uses it.
 uint64_t xxh3(std::span<const std::byte> bytes);
 
+// A copy of some bytes that starts `misalignment` bytes past a 64-byte boundary (0: aligned), for
+// borrowed memory sources. Not copyable: a borrowed view points into it.
+class AlignedBytes {
+  public:
+    explicit AlignedBytes(std::span<const std::byte> bytes, std::size_t misalignment = 0);
+    AlignedBytes(const AlignedBytes&) = delete;
+    AlignedBytes& operator=(const AlignedBytes&) = delete;
+    std::span<std::byte> bytes() { return std::span(storage_).subspan(start_, size_); }
+    std::span<const std::byte> view() const { return std::span(storage_).subspan(start_, size_); }
+
+  private:
+    std::vector<std::byte> storage_;
+    std::size_t start_ = 0, size_ = 0;
+};
+
 // Runs `action` and expects a PackageError with `code` whose message names `file`.
 void expectPackageError(const std::function<void()>& action, ErrorCode code,
                         const std::filesystem::path& file);

@@ -17,6 +17,42 @@
 
 int firelook_c_smoke(const char* package_path);
 
+/* The same package read into memory, as an engine reads its archive, and loaded from there (copied,
+   so the buffer is freed at once): it must describe the same package. */
+static int smoke_memory_load(const char* package_path, const fl_package_info* from_file) {
+    fl_package package = {0};
+    fl_package_memory_desc desc = fl_package_memory_desc_defaults();
+    fl_package_info info = fl_package_info_defaults();
+    FILE* file = fopen(package_path, "rb");
+    char* bytes;
+    long size;
+    size_t got;
+    if (!file) return 1;
+    if (fseek(file, 0, SEEK_END) != 0 || (size = ftell(file)) <= 0 || fseek(file, 0, SEEK_SET) != 0) {
+        fclose(file);
+        return 1;
+    }
+    bytes = (char*)malloc((size_t)size);
+    got = bytes ? fread(bytes, 1, (size_t)size, file) : 0;
+    fclose(file);
+    if (got != (size_t)size) {
+        free(bytes);
+        return 1;
+    }
+    desc.flags = 0; /* copy: any alignment, the buffer is ours again when the call returns */
+    if (fl_package_load_memory(bytes, got, "smoke.pak:package", &desc, &package) != FL_OK) {
+        free(bytes);
+        return 1;
+    }
+    free(bytes);
+    CHECK(fl_package_get_info(package, &info));
+    CHECK(fl_package_release(package));
+    return info.width == from_file->width && info.height == from_file->height &&
+                   info.frame_count == from_file->frame_count
+               ? 0
+               : 1;
+}
+
 int firelook_c_smoke(const char* package_path) {
     fl_package package = {0};
     fl_package_info info = fl_package_info_defaults();
@@ -67,6 +103,7 @@ int firelook_c_smoke(const char* package_path) {
         }
     CHECK(fl_instance_get_flare(world, instance, image, floats));
     free(image);
+    if (smoke_memory_load(package_path, &info) != 0) return 7;
     CHECK(fl_instance_destroy(world, instance));
     if (fl_instance_destroy(world, instance) != FL_ERROR_INVALID_HANDLE) return 6;
     CHECK(fl_look_release(look));

@@ -91,6 +91,88 @@ class PluginApi : public ::testing::Test {
     std::string path_;
 };
 
+// The desc of an instance of `package` with `look` (0: the package's default look).
+fl_instance_desc instanceDesc(fl_package package, fl_look look = {}) {
+    fl_instance_desc d = fl_instance_desc_defaults();
+    d.package = package;
+    d.look = look;
+    return d;
+}
+
+// An instance of `package` in `world`, expected to be created.
+fl_instance createInstance(fl_world world, fl_package package) {
+    const fl_instance_desc d = instanceDesc(package);
+    fl_instance i{};
+    EXPECT_EQ(fl_instance_create(world, &d, &i), FL_OK) << fl_last_error();
+    return i;
+}
+
+// Paused on frame 4 of the synthetic package (frames 3, 4, 5): time 1 s at rate 1.
+fl_playback_desc pausedOnFrame4() {
+    fl_playback_desc pb = fl_playback_desc_defaults();
+    pb.paused = 1;
+    pb.rate = 1.0;
+    pb.time = 1.0;
+    return pb;
+}
+
+fl_outputs_desc imageOutputs() {
+    fl_outputs_desc out = fl_outputs_desc_defaults();
+    out.image = 1;
+    return out;
+}
+
+// PluginApi with the synthetic package loaded and an empty world: what most tests start from. A
+// test that destroys the world or releases the package itself does it through destroyWorld() /
+// releasePackage(), which expect FL_OK and keep the (then stale) handles; TearDown gives back
+// whatever is left, expecting FL_OK as well.
+class PluginApiWorld : public PluginApi {
+  protected:
+    void SetUp() override {
+        PluginApi::SetUp();
+        if (HasFatalFailure()) return;
+        package_ = load();
+        package_live_ = package_.id != 0;
+        allocs_before_world_ = g_allocs;
+        frees_before_world_ = g_frees;
+        sizes_before_world_ = allocationCount();
+        ASSERT_EQ(fl_world_create(nullptr, &world_), FL_OK) << fl_last_error();
+        world_live_ = true;
+    }
+    void TearDown() override {
+        if (world_live_) {
+            EXPECT_EQ(fl_world_destroy(world_), FL_OK);
+        }
+        if (package_live_) {
+            EXPECT_EQ(fl_package_release(package_), FL_OK);
+        }
+        PluginApi::TearDown();
+    }
+
+    void destroyWorld() {
+        world_live_ = false;
+        EXPECT_EQ(fl_world_destroy(world_), FL_OK);
+    }
+    void releasePackage() {
+        package_live_ = false;
+        EXPECT_EQ(fl_package_release(package_), FL_OK);
+    }
+    // The allocator promise of firelook.h: destroying the world gives back every host allocation
+    // made since just before it was created.
+    void destroyWorldExpectingEveryAllocationBack() {
+        destroyWorld();
+        EXPECT_EQ(g_frees - frees_before_world_, g_allocs - allocs_before_world_);
+    }
+
+    fl_package package_{};
+    fl_world world_{};
+    long allocs_before_world_ = 0, frees_before_world_ = 0;
+    size_t sizes_before_world_ = 0;  // allocationCount() then
+
+  private:
+    bool package_live_ = false, world_live_ = false;
+};
+
 const char* kLookJson = R"({
   "format": "firelook-look", "version": 1,
   "temperature_threshold": 1.45, "smoke_extinction": 5.0, "flame_extinction": 1.2, "albedo": 0.7,
@@ -214,20 +296,13 @@ TEST(PluginApiInit, OlderMinorNewerPatchAndLargerStructSizesAreAccepted) {
     EXPECT_EQ(fl_shutdown(), FL_OK);
 }
 
-// An instance of `package` drawing its CPU image, paused on frame 4 (time 1 s at rate 1); look 0
-// is the package's default.
+// An instance of `package` drawing its CPU image, paused on frame 4; look 0 is the package's default.
 void createPausedImageInstance(fl_world world, fl_package package, fl_look look, fl_instance* inst) {
-    fl_instance_desc idesc = fl_instance_desc_defaults();
-    idesc.package = package;
-    idesc.look = look;
+    const fl_instance_desc idesc = instanceDesc(package, look);
     ASSERT_EQ(fl_instance_create(world, &idesc, inst), FL_OK) << fl_last_error();
-    fl_outputs_desc out = fl_outputs_desc_defaults();
-    out.image = 1;
+    const fl_outputs_desc out = imageOutputs();
     ASSERT_EQ(fl_instance_set_outputs(world, *inst, &out), FL_OK);
-    fl_playback_desc pb = fl_playback_desc_defaults();
-    pb.paused = 1;
-    pb.rate = 1.0;
-    pb.time = 1.0;  // frame 4
+    const fl_playback_desc pb = pausedOnFrame4();
     ASSERT_EQ(fl_instance_set_playback(world, *inst, &pb), FL_OK);
 }
 
@@ -274,35 +349,31 @@ TEST_F(PluginApi, PackageInfoFramesAndDefaultLook) {
 // fl_instance_set_outputs 1 (the 16 x 12 x 4-float image, 3072 bytes), fl_world_update none here
 // (see DecodedFactorsComeFromTheHostAllocator for the decoded U it should take), and
 // fl_world_destroy frees all 5.
-TEST_F(PluginApi, ImageEqualsRenderLookImageAndGpuDataReproducesIt) {
-    const fl_package p = load();
-    const long allocs_at_start = g_allocs, frees_at_start = g_frees;
-    const size_t sizes_at_start = allocationCount();
-    fl_world world{};
-    ASSERT_EQ(fl_world_create(nullptr, &world), FL_OK);
+TEST_F(PluginApiWorld, ImageEqualsRenderLookImageAndGpuDataReproducesIt) {
     fl_look look{};
     ASSERT_EQ(fl_look_from_json(kLookJson, 0, "test look", &look), FL_OK) << fl_last_error();
     fl_instance inst{};
-    ASSERT_NO_FATAL_FAILURE(createPausedImageInstance(world, p, look, &inst));
+    ASSERT_NO_FATAL_FAILURE(createPausedImageInstance(world_, package_, look, &inst));
     std::vector<float> image(16 * 12 * 4);
-    EXPECT_EQ(fl_instance_get_image(world, inst, image.data(), image.size()), FL_ERROR_NO_DATA);
-    ASSERT_EQ(fl_world_update(world, 0.0), FL_OK);
+    EXPECT_EQ(fl_instance_get_image(world_, inst, image.data(), image.size()), FL_ERROR_NO_DATA);
+    ASSERT_EQ(fl_world_update(world_, 0.0), FL_OK);
     EXPECT_GT(g_allocs.load(), 0);
     // The world's buffers came from the host allocator, the image (3072 bytes) among them.
-    EXPECT_GE(g_allocs - allocs_at_start, 2);
-    EXPECT_GE(largestAllocationSince(sizes_at_start), 16u * 12u * 4u * sizeof(float));
-    EXPECT_EQ(fl_instance_get_image(world, inst, image.data(), image.size() - 1), FL_ERROR_BUFFER_TOO_SMALL);
-    ASSERT_EQ(fl_instance_get_image(world, inst, image.data(), image.size()), FL_OK);
+    EXPECT_GE(g_allocs - allocs_before_world_, 2);
+    EXPECT_GE(largestAllocationSince(sizes_before_world_), 16u * 12u * 4u * sizeof(float));
+    EXPECT_EQ(fl_instance_get_image(world_, inst, image.data(), image.size() - 1), FL_ERROR_BUFFER_TOO_SMALL);
+    ASSERT_EQ(fl_instance_get_image(world_, inst, image.data(), image.size()), FL_OK);
     fl_package_info info = fl_package_info_defaults();
-    ASSERT_EQ(fl_package_get_info(p, &info), FL_OK);
+    ASSERT_EQ(fl_package_get_info(package_, &info), FL_OK);
     ASSERT_GE(info.footprint_samples, 1);
 
-    // Reference: the runtime's renderLookImage of the same package, frame and look.
+    // Reference: the runtime's renderLookImage of the same package, frame and look (the resident
+    // form, as the world draws it).
     const auto package = firelook::basis::BasisPackage::open(path_);
     const auto& d = package.description();
-    const firelook::basis::FrameFactors f = package.loadFrame(4);
+    const firelook::basis::ResidentFrame f = package.loadResidentFrame(4, std::pmr::get_default_resource());
     std::vector<float> want(image.size());
-    firelook::basis::renderLookImage(d, f, firelook::basis::decodeU(f), firelook::parseLook(kLookJson, "x"), want);
+    firelook::basis::renderLookImage(d, f, firelook::parseLook(kLookJson, "x"), want);
     double peak = 0.0;
     for (size_t i = 0; i < want.size(); ++i)
         if (i % 4 != 3) peak = std::max(peak, static_cast<double>(want[i]));
@@ -311,29 +382,35 @@ TEST_F(PluginApi, ImageEqualsRenderLookImageAndGpuDataReproducesIt) {
 
     // GPU path: U layers + depth layers + z + state reproduce the image.
     fl_instance_state st = fl_instance_state_defaults();
-    ASSERT_EQ(fl_instance_get_state(world, inst, &st), FL_OK);
+    ASSERT_EQ(fl_instance_get_state(world_, inst, &st), FL_OK);
     EXPECT_EQ(st.frame, 4);
     EXPECT_EQ(st.rank, 7);
     std::vector<float> z(st.rank * 3);
     int32_t rank = 0;
-    ASSERT_EQ(fl_instance_get_coefficients(world, inst, z.data(), z.size(), &rank), FL_OK);
+    ASSERT_EQ(fl_instance_get_coefficients(world_, inst, z.data(), z.size(), &rank), FL_OK);
     size_t n_u = 0, n_d = 0;
-    ASSERT_EQ(fl_package_get_frame_u(p, 4, nullptr, 0, &n_u), FL_OK);
+    ASSERT_EQ(fl_package_get_frame_u(package_, 4, nullptr, 0, &n_u), FL_OK);
     EXPECT_EQ(n_u, size_t(2) * 16 * 12 * 4);  // ceil(7 / 4) = 2 layers
     std::vector<uint16_t> u(n_u);
-    ASSERT_EQ(fl_package_get_frame_u(p, 4, u.data(), u.size(), &n_u), FL_OK);
-    ASSERT_EQ(fl_package_get_frame_depths(p, 4, nullptr, 0, &n_d), FL_OK);
+    ASSERT_EQ(fl_package_get_frame_u(package_, 4, u.data(), u.size(), &n_u), FL_OK);
+    ASSERT_EQ(fl_package_get_frame_depths(package_, 4, nullptr, 0, &n_d), FL_OK);
     std::vector<float> depths(n_d);
-    ASSERT_EQ(fl_package_get_frame_depths(p, 4, depths.data(), depths.size(), &n_d), FL_OK);
+    ASSERT_EQ(fl_package_get_frame_depths(package_, 4, depths.data(), depths.size(), &n_d), FL_OK);
     const size_t pixels = 16 * 12;
     for (size_t px = 0; px < pixels; ++px) {
-        float rgb[3] = {0, 0, 0};
+        float rgb[3] = {0, 0, 0}, magnitude[3] = {0, 0, 0};
         for (int k = 0; k < rank; ++k) {
             const float uk = glm::unpackHalf1x16(u[((k / 4) * pixels + px) * 4 + k % 4]);
-            for (int c = 0; c < 3; ++c) rgb[c] += uk * z[k * 3 + c];
+            for (int c = 0; c < 3; ++c) {
+                rgb[c] += uk * z[k * 3 + c];
+                magnitude[c] += std::abs(uk * z[k * 3 + c]);
+            }
         }
+        // The GPU's U is half (relative 2^-11 per value); the world's image uses the codec's grid
+        // values, so a channel may differ by 2^-11 sum_k |U_k z_k|, plus float rounding.
         for (int c = 0; c < 3; ++c)
-            ASSERT_NEAR(std::max(rgb[c], 0.0f), image[px * 4 + c], 1e-5 * peak + 1e-5 * std::abs(image[px * 4 + c]));
+            ASSERT_NEAR(std::max(rgb[c], 0.0f), image[px * 4 + c],
+                        std::ldexp(magnitude[c], -11) + 1e-5 * peak + 1e-5 * std::abs(image[px * 4 + c]));
         // alpha = mean over the footprint samples s of 1 - exp(-(a O_a(s) + b O_b(s))).
         const size_t samples = static_cast<size_t>(info.footprint_samples), thresholds = 5;
         float alpha = 0.0f;
@@ -347,35 +424,28 @@ TEST_F(PluginApi, ImageEqualsRenderLookImageAndGpuDataReproducesIt) {
     }
     // The padding channel of the last layer is 0 (rank 7 -> channel 3 of layer 1).
     EXPECT_EQ(u[(1 * pixels + 0) * 4 + 3], 0);
-    EXPECT_EQ(fl_package_get_frame_u(p, 99, u.data(), u.size(), &n_u), FL_ERROR_NOT_FOUND);
-    EXPECT_EQ(fl_world_destroy(world), FL_OK);
-    // Every host allocation of the world was given back.
-    EXPECT_EQ(g_frees - frees_at_start, g_allocs - allocs_at_start);
+    EXPECT_EQ(fl_package_get_frame_u(package_, 99, u.data(), u.size(), &n_u), FL_ERROR_NOT_FOUND);
+    destroyWorldExpectingEveryAllocationBack();
     EXPECT_EQ(fl_look_release(look), FL_OK);
-    EXPECT_EQ(fl_package_release(p), FL_OK);
 }
 
 // The world's float copy of a frame's U (decoded from the package's halfs for the CPU image) is one
 // of the "decoded factor copies" that fl_allocator says come from the host allocator; for frame 4
 // (rank 7: 2 layers x 4 channels x 16 x 12 pixels) it is 1536 floats, 6144 bytes, made in the first
 // fl_world_update that shows the frame. Measured: that update made no host allocation at all.
-TEST_F(PluginApi, DecodedFactorsComeFromTheHostAllocator) {
-    const fl_package p = load();
-    const long allocs_at_start = g_allocs, frees_at_start = g_frees;
-    fl_world world{};
-    ASSERT_EQ(fl_world_create(nullptr, &world), FL_OK);
+TEST_F(PluginApiWorld, DecodedFactorsComeFromTheHostAllocator) {
     fl_instance inst{};
-    ASSERT_NO_FATAL_FAILURE(createPausedImageInstance(world, p, fl_look{}, &inst));
+    ASSERT_NO_FATAL_FAILURE(createPausedImageInstance(world_, package_, fl_look{}, &inst));
     const size_t before_update = allocationCount();
-    ASSERT_EQ(fl_world_update(world, 0.0), FL_OK);
+    ASSERT_EQ(fl_world_update(world_, 0.0), FL_OK);
     // The decoded U is pixels x rank floats (fl_package_get_frame_u's texture layout pads the rank
     // to a multiple of 4, so it is not the size to expect).
     fl_package_info info{};
     info.struct_size = sizeof info;
-    ASSERT_EQ(fl_package_get_info(p, &info), FL_OK);
+    ASSERT_EQ(fl_package_get_info(package_, &info), FL_OK);
     int32_t numbers[16] = {}, ranks[16] = {};
     uint32_t frames = 0;
-    ASSERT_EQ(fl_package_get_frames(p, numbers, ranks, 16, &frames), FL_OK);
+    ASSERT_EQ(fl_package_get_frames(package_, numbers, ranks, 16, &frames), FL_OK);
     int32_t rank = 0;
     for (uint32_t f = 0; f < frames && f < 16; ++f)
         if (numbers[f] == 4) rank = ranks[f];
@@ -383,19 +453,13 @@ TEST_F(PluginApi, DecodedFactorsComeFromTheHostAllocator) {
     const size_t n_u = static_cast<size_t>(info.width) * info.height * rank;
     EXPECT_GE(largestAllocationSince(before_update), n_u * sizeof(float))
         << "the decoded U of frame 4 (" << n_u << " floats) did not come from the host allocator";
-    EXPECT_EQ(fl_world_destroy(world), FL_OK);
-    EXPECT_EQ(g_frees - frees_at_start, g_allocs - allocs_at_start);
-    EXPECT_EQ(fl_package_release(p), FL_OK);
+    destroyWorldExpectingEveryAllocationBack();
 }
 
-TEST_F(PluginApi, StaleAndInvalidHandlesAndWrongStructSizesNeverCrash) {
-    fl_package p = load();
-    fl_world world{};
-    ASSERT_EQ(fl_world_create(nullptr, &world), FL_OK);
-    fl_instance_desc idesc = fl_instance_desc_defaults();
-    idesc.package = p;
+TEST_F(PluginApiWorld, StaleAndInvalidHandlesAndWrongStructSizesNeverCrash) {
+    fl_instance_desc idesc = instanceDesc(package_);
     fl_instance inst{};
-    ASSERT_EQ(fl_instance_create(world, &idesc, &inst), FL_OK);
+    ASSERT_EQ(fl_instance_create(world_, &idesc, &inst), FL_OK);
     fl_outputs_desc out = fl_outputs_desc_defaults();
     fl_playback_desc pb = fl_playback_desc_defaults();
     fl_instance_state st = fl_instance_state_defaults();
@@ -405,18 +469,18 @@ TEST_F(PluginApi, StaleAndInvalidHandlesAndWrongStructSizesNeverCrash) {
     // Wrong struct sizes.
     idesc.struct_size = 4;
     fl_instance other{};
-    EXPECT_EQ(fl_instance_create(world, &idesc, &other), FL_ERROR_STRUCT_SIZE);
+    EXPECT_EQ(fl_instance_create(world_, &idesc, &other), FL_ERROR_STRUCT_SIZE);
     EXPECT_EQ(other.id, 0u);
     idesc.struct_size = 0;
-    EXPECT_EQ(fl_instance_create(world, &idesc, &other), FL_ERROR_STRUCT_SIZE);
+    EXPECT_EQ(fl_instance_create(world_, &idesc, &other), FL_ERROR_STRUCT_SIZE);
     out.struct_size = 3;
-    EXPECT_EQ(fl_instance_set_outputs(world, inst, &out), FL_ERROR_STRUCT_SIZE);
+    EXPECT_EQ(fl_instance_set_outputs(world_, inst, &out), FL_ERROR_STRUCT_SIZE);
     pb.struct_size = sizeof(pb) - 8;
-    EXPECT_EQ(fl_instance_set_playback(world, inst, &pb), FL_ERROR_STRUCT_SIZE);
+    EXPECT_EQ(fl_instance_set_playback(world_, inst, &pb), FL_ERROR_STRUCT_SIZE);
     st.struct_size = 0;
-    EXPECT_EQ(fl_instance_get_state(world, inst, &st), FL_ERROR_STRUCT_SIZE);
+    EXPECT_EQ(fl_instance_get_state(world_, inst, &st), FL_ERROR_STRUCT_SIZE);
     info.struct_size = 8;
-    EXPECT_EQ(fl_package_get_info(p, &info), FL_ERROR_STRUCT_SIZE);
+    EXPECT_EQ(fl_package_get_info(package_, &info), FL_ERROR_STRUCT_SIZE);
     EXPECT_NE(std::string(fl_last_error()).find("struct_size"), std::string::npos);
     info = fl_package_info_defaults();
     fl_world_desc wd = fl_world_desc_defaults();
@@ -425,74 +489,68 @@ TEST_F(PluginApi, StaleAndInvalidHandlesAndWrongStructSizesNeverCrash) {
     EXPECT_EQ(fl_world_create(&wd, &w2), FL_ERROR_STRUCT_SIZE);
 
     // Null pointers.
-    EXPECT_EQ(fl_instance_create(world, nullptr, &other), FL_ERROR_INVALID_ARGUMENT);
-    EXPECT_EQ(fl_instance_create(world, &idesc, nullptr), FL_ERROR_INVALID_ARGUMENT);
-    EXPECT_EQ(fl_package_load(nullptr, &p), FL_ERROR_INVALID_ARGUMENT);
-    EXPECT_EQ(fl_instance_get_image(world, inst, nullptr, 100), FL_ERROR_INVALID_ARGUMENT);
-    EXPECT_EQ(fl_instance_set_keyframes(world, inst, nullptr, 1), FL_ERROR_INVALID_ARGUMENT);
-    EXPECT_EQ(fl_world_update(world, NAN), FL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(fl_instance_create(world_, nullptr, &other), FL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(fl_instance_create(world_, &idesc, nullptr), FL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(fl_package_load(nullptr, &package_), FL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(fl_instance_get_image(world_, inst, nullptr, 100), FL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(fl_instance_set_keyframes(world_, inst, nullptr, 1), FL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(fl_world_update(world_, NAN), FL_ERROR_INVALID_ARGUMENT);
 
     // Invalid handles: 0, garbage, another kind's id, stale after release/destroy.
-    const uint32_t garbage[] = {0u, 1u << 20, 0xFFFFFFFFu, 0x12345u, world.id + 1};
+    const uint32_t garbage[] = {0u, 1u << 20, 0xFFFFFFFFu, 0x12345u, world_.id + 1};
     for (uint32_t id : garbage) {
         EXPECT_EQ(fl_world_update(fl_world{id}, 0.0), FL_ERROR_INVALID_HANDLE) << id;
         EXPECT_EQ(fl_package_get_info(fl_package{id}, &info), FL_ERROR_INVALID_HANDLE) << id;
         EXPECT_EQ(fl_look_release(fl_look{id}), FL_ERROR_INVALID_HANDLE) << id;
-        EXPECT_EQ(fl_instance_get_image(world, fl_instance{id == inst.id ? 0 : id}, buf, 16),
+        EXPECT_EQ(fl_instance_get_image(world_, fl_instance{id == inst.id ? 0 : id}, buf, 16),
                   FL_ERROR_INVALID_HANDLE) << id;
-        EXPECT_EQ(fl_instance_destroy(world, fl_instance{id == inst.id ? 0 : id}), FL_ERROR_INVALID_HANDLE) << id;
+        EXPECT_EQ(fl_instance_destroy(world_, fl_instance{id == inst.id ? 0 : id}), FL_ERROR_INVALID_HANDLE) << id;
     }
-    EXPECT_EQ(fl_instance_destroy(world, inst), FL_OK);
-    EXPECT_EQ(fl_instance_destroy(world, inst), FL_ERROR_INVALID_HANDLE);
-    EXPECT_EQ(fl_instance_get_state(world, inst, &st), FL_ERROR_STRUCT_SIZE);  // checked first
+    EXPECT_EQ(fl_instance_destroy(world_, inst), FL_OK);
+    EXPECT_EQ(fl_instance_destroy(world_, inst), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_get_state(world_, inst, &st), FL_ERROR_STRUCT_SIZE);  // checked first
     st = fl_instance_state_defaults();
-    EXPECT_EQ(fl_instance_get_state(world, inst, &st), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_get_state(world_, inst, &st), FL_ERROR_INVALID_HANDLE);
     fl_look look{};
     ASSERT_EQ(fl_look_from_json(kLookJson, 0, nullptr, &look), FL_OK);
-    EXPECT_EQ(fl_instance_set_look(world, inst, look), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_set_look(world_, inst, look), FL_ERROR_INVALID_HANDLE);
     // A new instance reuses the slot: the old handle stays stale.
     fl_instance again{};
-    idesc = fl_instance_desc_defaults();
-    idesc.package = p;
-    ASSERT_EQ(fl_instance_create(world, &idesc, &again), FL_OK);
+    idesc = instanceDesc(package_);
+    ASSERT_EQ(fl_instance_create(world_, &idesc, &again), FL_OK);
     EXPECT_NE(again.id, inst.id);
-    EXPECT_EQ(fl_instance_set_look(world, inst, look), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_set_look(world_, inst, look), FL_ERROR_INVALID_HANDLE);
     // Released package: the handle dies, the instance keeps working.
-    EXPECT_EQ(fl_package_release(p), FL_OK);
-    EXPECT_EQ(fl_package_release(p), FL_ERROR_INVALID_HANDLE);
-    EXPECT_EQ(fl_package_get_info(p, &info), FL_ERROR_INVALID_HANDLE);
-    idesc.package = p;
-    EXPECT_EQ(fl_instance_create(world, &idesc, &other), FL_ERROR_INVALID_HANDLE);
-    EXPECT_EQ(fl_world_update(world, 0.1), FL_OK);
+    releasePackage();
+    EXPECT_EQ(fl_package_release(package_), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_package_get_info(package_, &info), FL_ERROR_INVALID_HANDLE);
+    idesc.package = package_;
+    EXPECT_EQ(fl_instance_create(world_, &idesc, &other), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_world_update(world_, 0.1), FL_OK);
     // Released look.
     EXPECT_EQ(fl_look_release(look), FL_OK);
-    EXPECT_EQ(fl_instance_set_look(world, again, look), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_set_look(world_, again, look), FL_ERROR_INVALID_HANDLE);
     // Destroyed world.
-    EXPECT_EQ(fl_world_destroy(world), FL_OK);
-    EXPECT_EQ(fl_world_update(world, 0.0), FL_ERROR_INVALID_HANDLE);
-    EXPECT_EQ(fl_instance_destroy(world, again), FL_ERROR_INVALID_HANDLE);
-    EXPECT_EQ(fl_world_destroy(world), FL_ERROR_INVALID_HANDLE);
+    destroyWorld();
+    EXPECT_EQ(fl_world_update(world_, 0.0), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_destroy(world_, again), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_world_destroy(world_), FL_ERROR_INVALID_HANDLE);
     EXPECT_GT(g_logs.load(), 0);
     EXPECT_NE(g_last_log.find("invalid"), std::string::npos);
 }
 
-TEST_F(PluginApi, LooksAndPackagesWithErrorsReportCodesAndMessages) {
+TEST_F(PluginApiWorld, LooksAndPackagesWithErrorsReportCodesAndMessages) {
     fl_look look{};
     EXPECT_EQ(fl_look_from_json("{ not json", 0, "broken.json", &look), FL_ERROR_LOOK);
     EXPECT_NE(std::string(fl_last_error()).find("broken.json"), std::string::npos);
     const std::string wrong_albedo = std::string(kLookJson).replace(std::string(kLookJson).find("0.7"), 3, "0.9");
     ASSERT_EQ(fl_look_from_json(wrong_albedo.c_str(), 0, "pale.json", &look), FL_OK);
-    const fl_package p = load();
-    fl_world world{};
-    ASSERT_EQ(fl_world_create(nullptr, &world), FL_OK);
-    fl_instance_desc idesc = fl_instance_desc_defaults();
-    idesc.package = p;
-    idesc.look = look;
+    const fl_instance_desc idesc = instanceDesc(package_, look);
     fl_instance inst{};
-    EXPECT_EQ(fl_instance_create(world, &idesc, &inst), FL_ERROR_LOOK);
+    EXPECT_EQ(fl_instance_create(world_, &idesc, &inst), FL_ERROR_LOOK);
     EXPECT_NE(std::string(fl_last_error()).find("albedo"), std::string::npos);
     uint32_t count = 99;
-    ASSERT_EQ(fl_world_instance_count(world, &count), FL_OK);
+    ASSERT_EQ(fl_world_instance_count(world_, &count), FL_OK);
     EXPECT_EQ(count, 0u);  // the failed create left nothing behind
 
     fl_package q{};
@@ -507,7 +565,6 @@ TEST_F(PluginApi, LooksAndPackagesWithErrorsReportCodesAndMessages) {
     const fl_result cut = fl_package_load((dir_ / "cut.firelook").c_str(), &q);
     EXPECT_TRUE(cut == FL_ERROR_CORRUPT || cut == FL_ERROR_NOT_A_PACKAGE) << fl_result_string(cut);
     EXPECT_EQ(q.id, 0u);
-    EXPECT_EQ(fl_world_destroy(world), FL_OK);
 }
 
 TEST_F(PluginApi, PlainCTranslationUnitRunsTheWholeCycle) {
@@ -611,55 +668,51 @@ TEST(PluginApiStructRule, FirstPublishedSizesAreTheDocumentedFieldEnds) {
     EXPECT_EQ(FirstSize<fl_init_desc>::value, sizeof(fl_init_desc));
 }
 
+// A struct as a caller with a newer header passes it: ours, then fields this library does not know.
+template <class T>
+struct Larger {
+    T base;
+    unsigned char added[24];
+};
+// An input: `base`, the added fields zeroed, struct_size covering the whole.
+template <class T>
+Larger<T> largerInput(const T& base) {
+    Larger<T> s;
+    std::memset(&s, 0, sizeof s);
+    s.base = base;
+    s.base.struct_size = sizeof s;
+    return s;
+}
+// An output for the library to fill: every byte 0xAB but struct_size, so a write past ours shows.
+template <class T>
+Larger<T> largerOutput() {
+    Larger<T> s;
+    std::memset(&s, 0xAB, sizeof s);
+    s.base.struct_size = sizeof s;
+    return s;
+}
+
 // A caller whose header is newer (its structs larger, extra fields zeroed) through the real API:
 // inputs are accepted and behave as ours; outputs fill our fields and leave the caller's extra bytes
 // (0xAB here) untouched; a size below the first published one is refused.
 TEST_F(PluginApi, NewerCallersLargerStructsAreAcceptedAndTheirExtraBytesUntouched) {
     ASSERT_EQ(fl_shutdown(), FL_OK);
     fl_init_desc init = fl_init_desc_defaults();
-    init.sizeof_keyframe = sizeof(fl_keyframe) + 16;  // the stride of the newer keyframe array below
+    init.sizeof_keyframe = sizeof(Larger<fl_keyframe>);  // the stride of the newer keyframe array below
     ASSERT_EQ(fl_init(&init), FL_OK);
     const fl_package p = load();
 
-    struct NewerWorldDesc {
-        fl_world_desc base;
-        uint64_t added[2];
-    } wd{};
-    wd.base = fl_world_desc_defaults();
-    wd.base.struct_size = sizeof wd;
+    const auto wd = largerInput(fl_world_desc_defaults());
     fl_world world{};
     ASSERT_EQ(fl_world_create(&wd.base, &world), FL_OK) << fl_last_error();
-    struct NewerInstanceDesc {
-        fl_instance_desc base;
-        uint64_t added[2];
-    } id{};
-    id.base = fl_instance_desc_defaults();
-    id.base.struct_size = sizeof id;
-    id.base.package = p;
+    const auto id = largerInput(instanceDesc(p));
     fl_instance inst{};
     ASSERT_EQ(fl_instance_create(world, &id.base, &inst), FL_OK) << fl_last_error();
-    struct NewerOutputs {
-        fl_outputs_desc base;
-        uint64_t added[2];
-    } out{};
-    out.base = fl_outputs_desc_defaults();
-    out.base.struct_size = sizeof out;
-    out.base.image = 1;
+    const auto out = largerInput(imageOutputs());
     ASSERT_EQ(fl_instance_set_outputs(world, inst, &out.base), FL_OK) << fl_last_error();
-    struct NewerPlayback {
-        fl_playback_desc base;
-        uint64_t added[2];
-    } pb{};
-    pb.base = fl_playback_desc_defaults();
-    pb.base.struct_size = sizeof pb;
-    pb.base.paused = 1;
-    pb.base.rate = 1.0;
-    pb.base.time = 1.0;  // frame 4
+    const auto pb = largerInput(pausedOnFrame4());
     ASSERT_EQ(fl_instance_set_playback(world, inst, &pb.base), FL_OK) << fl_last_error();
-    struct NewerKeyframe {
-        fl_keyframe base;
-        uint64_t added[2];
-    } keys[2] = {};
+    Larger<fl_keyframe> keys[2] = {};
     fl_look look{};
     ASSERT_EQ(fl_package_default_look(p, &look), FL_OK);
     keys[0].base.frame = 3.0;
@@ -669,24 +722,14 @@ TEST_F(PluginApi, NewerCallersLargerStructsAreAcceptedAndTheirExtraBytesUntouche
     ASSERT_EQ(fl_instance_set_keyframes(world, inst, &keys[0].base, 2), FL_OK) << fl_last_error();
     ASSERT_EQ(fl_world_update(world, 0.0), FL_OK) << fl_last_error();
 
-    struct NewerState {
-        fl_instance_state base;
-        unsigned char added[24];
-    } st;
-    std::memset(&st, 0xAB, sizeof st);
-    st.base.struct_size = sizeof st;
+    auto st = largerOutput<fl_instance_state>();
     ASSERT_EQ(fl_instance_get_state(world, inst, &st.base), FL_OK) << fl_last_error();
     EXPECT_EQ(st.base.struct_size, sizeof st);
     EXPECT_EQ(st.base.updated, 1);
     EXPECT_EQ(st.base.frame, 4);
     EXPECT_EQ(st.base.rank, 7);
     for (unsigned char b : st.added) ASSERT_EQ(b, 0xAB);
-    struct NewerInfo {
-        fl_package_info base;
-        unsigned char added[24];
-    } info;
-    std::memset(&info, 0xAB, sizeof info);
-    info.base.struct_size = sizeof info;
+    auto info = largerOutput<fl_package_info>();
     ASSERT_EQ(fl_package_get_info(p, &info.base), FL_OK) << fl_last_error();
     EXPECT_EQ(info.base.struct_size, sizeof info);
     EXPECT_EQ(info.base.width, 16);
@@ -713,24 +756,15 @@ TEST_F(PluginApi, NewerCallersLargerStructsAreAcceptedAndTheirExtraBytesUntouche
 
 // ---- handles ---------------------------------------------------------------------------------------
 
-fl_instance createInstance(fl_world world, fl_package package) {
-    fl_instance_desc d = fl_instance_desc_defaults();
-    d.package = package;
-    fl_instance i{};
-    EXPECT_EQ(fl_instance_create(world, &d, &i), FL_OK) << fl_last_error();
-    return i;
-}
-
 // The issue's reproduction: with two worlds holding one instance each, world B is handed world A's
 // instance. Every instance call refuses it, and world B's own instance survives.
-TEST_F(PluginApi, AnInstanceOfAnotherWorldIsRefusedAndTheOtherWorldsInstanceSurvives) {
-    const fl_package p = load();
-    fl_world a{}, b{};
-    ASSERT_EQ(fl_world_create(nullptr, &a), FL_OK);
+TEST_F(PluginApiWorld, AnInstanceOfAnotherWorldIsRefusedAndTheOtherWorldsInstanceSurvives) {
+    const fl_world a = world_;
+    fl_world b{};
     ASSERT_EQ(fl_world_create(nullptr, &b), FL_OK);
-    const fl_instance of_a = createInstance(a, p), of_b = createInstance(b, p);
+    const fl_instance of_a = createInstance(a, package_), of_b = createInstance(b, package_);
     fl_look look{};
-    ASSERT_EQ(fl_package_default_look(p, &look), FL_OK);
+    ASSERT_EQ(fl_package_default_look(package_, &look), FL_OK);
     fl_instance_state st = fl_instance_state_defaults();
     fl_outputs_desc out = fl_outputs_desc_defaults();
     fl_playback_desc pb = fl_playback_desc_defaults();
@@ -759,57 +793,52 @@ TEST_F(PluginApi, AnInstanceOfAnotherWorldIsRefusedAndTheOtherWorldsInstanceSurv
     EXPECT_EQ(fl_instance_get_state(a, of_a, &st), FL_OK);  // A's own still answers through A
 
     // Destroying world A makes its instance's handle stale everywhere; B's is unaffected.
-    EXPECT_EQ(fl_world_destroy(a), FL_OK);
+    destroyWorld();  // A
     EXPECT_EQ(fl_instance_get_state(b, of_a, &st), FL_ERROR_INVALID_HANDLE);
     EXPECT_EQ(fl_instance_destroy(b, of_b), FL_OK);
     EXPECT_EQ(fl_instance_destroy(b, of_b), FL_ERROR_INVALID_HANDLE);  // stale after destroy
     EXPECT_EQ(fl_look_release(look), FL_OK);
     EXPECT_EQ(fl_world_destroy(b), FL_OK);
-    EXPECT_EQ(fl_package_release(p), FL_OK);
 }
 
 // Ids carry their kind: a live id of one kind is refused as every other kind, the message saying so.
-TEST_F(PluginApi, AHandleOfAnotherKindIsRefused) {
-    const fl_package p = load();
-    fl_world w{};
-    ASSERT_EQ(fl_world_create(nullptr, &w), FL_OK);
+TEST_F(PluginApiWorld, AHandleOfAnotherKindIsRefused) {
     fl_look look{};
-    ASSERT_EQ(fl_package_default_look(p, &look), FL_OK);
-    const fl_instance inst = createInstance(w, p);
+    ASSERT_EQ(fl_package_default_look(package_, &look), FL_OK);
+    const fl_instance inst = createInstance(world_, package_);
     fl_package_info info = fl_package_info_defaults();
     size_t size = 0;
     uint32_t count = 0;
 
-    EXPECT_EQ(fl_package_get_info(fl_package{w.id}, &info), FL_ERROR_INVALID_HANDLE);  // a world as a package
+    EXPECT_EQ(fl_package_get_info(fl_package{world_.id}, &info), FL_ERROR_INVALID_HANDLE);  // a world as a package
     EXPECT_NE(std::string(fl_last_error()).find("a world handle, not a package handle"), std::string::npos) << fl_last_error();
-    EXPECT_EQ(fl_world_update(fl_world{p.id}, 0.0), FL_ERROR_INVALID_HANDLE);  // a package as a world
-    EXPECT_EQ(fl_world_instance_count(fl_world{p.id}, &count), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_world_update(fl_world{package_.id}, 0.0), FL_ERROR_INVALID_HANDLE);  // a package as a world
+    EXPECT_EQ(fl_world_instance_count(fl_world{package_.id}, &count), FL_ERROR_INVALID_HANDLE);
     EXPECT_EQ(fl_world_destroy(fl_world{look.id}), FL_ERROR_INVALID_HANDLE);
     EXPECT_EQ(fl_world_update(fl_world{inst.id}, 0.0), FL_ERROR_INVALID_HANDLE);
-    EXPECT_EQ(fl_look_to_json(fl_look{p.id}, nullptr, 0, &size), FL_ERROR_INVALID_HANDLE);
-    EXPECT_EQ(fl_look_release(fl_look{w.id}), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_look_to_json(fl_look{package_.id}, nullptr, 0, &size), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_look_release(fl_look{world_.id}), FL_ERROR_INVALID_HANDLE);
     EXPECT_EQ(fl_package_release(fl_package{look.id}), FL_ERROR_INVALID_HANDLE);
     EXPECT_EQ(fl_package_release(fl_package{inst.id}), FL_ERROR_INVALID_HANDLE);
-    EXPECT_EQ(fl_instance_destroy(w, fl_instance{p.id}), FL_ERROR_INVALID_HANDLE);
-    EXPECT_EQ(fl_instance_destroy(w, fl_instance{w.id}), FL_ERROR_INVALID_HANDLE);
-    fl_instance_desc d = fl_instance_desc_defaults();
-    d.package = fl_package{w.id};
+    EXPECT_EQ(fl_instance_destroy(world_, fl_instance{package_.id}), FL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(fl_instance_destroy(world_, fl_instance{world_.id}), FL_ERROR_INVALID_HANDLE);
+    fl_instance_desc d = instanceDesc(fl_package{world_.id});
     fl_instance other{};
-    EXPECT_EQ(fl_instance_create(w, &d, &other), FL_ERROR_INVALID_HANDLE);
-    d.package = p;
-    d.look = fl_look{p.id};
-    EXPECT_EQ(fl_instance_create(w, &d, &other), FL_ERROR_INVALID_HANDLE);
-    ASSERT_EQ(fl_world_instance_count(w, &count), FL_OK);
+    EXPECT_EQ(fl_instance_create(world_, &d, &other), FL_ERROR_INVALID_HANDLE);
+    d.package = package_;
+    d.look = fl_look{package_.id};
+    EXPECT_EQ(fl_instance_create(world_, &d, &other), FL_ERROR_INVALID_HANDLE);
+    ASSERT_EQ(fl_world_instance_count(world_, &count), FL_OK);
     EXPECT_EQ(count, 1u);  // the refused creates left nothing behind
 
     // The refused calls changed nothing: every object still works through its own kind.
-    EXPECT_EQ(fl_package_get_info(p, &info), FL_OK);
-    EXPECT_EQ(fl_world_update(w, 0.0), FL_OK);
+    EXPECT_EQ(fl_package_get_info(package_, &info), FL_OK);
+    EXPECT_EQ(fl_world_update(world_, 0.0), FL_OK);
     EXPECT_EQ(fl_look_to_json(look, nullptr, 0, &size), FL_OK);
-    EXPECT_EQ(fl_instance_destroy(w, inst), FL_OK);
+    EXPECT_EQ(fl_instance_destroy(world_, inst), FL_OK);
     EXPECT_EQ(fl_look_release(look), FL_OK);
-    EXPECT_EQ(fl_world_destroy(w), FL_OK);
-    EXPECT_EQ(fl_package_release(p), FL_OK);
+    destroyWorld();
+    releasePackage();
 }
 
 // ---- coded errors ----------------------------------------------------------------------------------
@@ -817,7 +846,7 @@ TEST_F(PluginApi, AHandleOfAnotherKindIsRefused) {
 // A package whose content is wrong is FL_ERROR_CORRUPT, with a message naming the file: META that is
 // not a bake description (open), and frames whose sections are missing (the frame's shape check on
 // every read: fl_package_get_frame_u/_depths and the world's update).
-TEST_F(PluginApi, ABadPackageIsCorruptAndTheMessageNamesTheFile) {
+TEST_F(PluginApiWorld, ABadPackageIsCorruptAndTheMessageNamesTheFile) {
     const std::string bad_meta = (dir_ / "bad-meta.firelook").string();
     {
         firelook::package::PackageWriter writer(bad_meta, firelook::package::WriterOptions{1});
@@ -847,11 +876,9 @@ TEST_F(PluginApi, ABadPackageIsCorruptAndTheMessageNamesTheFile) {
     ASSERT_EQ(fl_package_get_frame_depths(p, 3, nullptr, 0, &n), FL_OK);
     std::vector<float> depths(n);
     EXPECT_EQ(fl_package_get_frame_depths(p, 3, depths.data(), depths.size(), &n), FL_ERROR_CORRUPT);
-    fl_world w{};
-    ASSERT_EQ(fl_world_create(nullptr, &w), FL_OK);
-    createInstance(w, p);
-    EXPECT_EQ(fl_world_update(w, 0.0), FL_ERROR_CORRUPT) << fl_last_error();
-    EXPECT_EQ(fl_world_destroy(w), FL_OK);
+    createInstance(world_, p);
+    EXPECT_EQ(fl_world_update(world_, 0.0), FL_ERROR_CORRUPT) << fl_last_error();
+    destroyWorld();
     EXPECT_EQ(fl_package_release(p), FL_OK);
 }
 

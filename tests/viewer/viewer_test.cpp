@@ -162,7 +162,12 @@ TEST_F(Viewer, GpuPathEqualsCpuPath) {
                                      (look.empty() ? "" : " --look " + quote(look));
             const ImageRGBA gpu = screenshot("gpu.exr", args + " --path gpu");
             const ImageRGBA cpu = screenshot("cpu.exr", args + " --path cpu");
-            expectClose(gpu, cpu, 1e-5, 1e-5, 1e-5, "frame " + std::to_string(frame) + " look '" + look + "'");
+            // The GPU path reads U as half floats (fl_package_get_frame_u), the CPU path the
+            // codec's grid values themselves (the world's resident frames): a channel may differ by
+            // 2^-11 sum_k |U_k z_k|, which cancellation makes larger than 2^-11 of the value in
+            // the smoke's faint edges; below 2^-12 of the peak in these frames.
+            expectClose(gpu, cpu, std::ldexp(1.0, -11) + 1e-5, std::ldexp(1.0, -12), 1e-5,
+                        "frame " + std::to_string(frame) + " look '" + look + "'");
         }
 }
 

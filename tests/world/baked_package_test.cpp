@@ -32,8 +32,7 @@ TEST(BakedPackage, WorldImagesEqualRenderLookImage) {
         loadLook(std::string(FIRELOOK_SAMPLE_DIR) + "/../../looks/smoky.json"),
     };
     for (int frame : {1, 2}) {
-        const basis::FrameFactors f = package->basis().loadFrame(frame);
-        const std::vector<float> u = basis::decodeU(f);
+        const basis::ResidentFrame f = package->basis().loadResidentFrame(frame, std::pmr::get_default_resource());
         for (const Look& look : looks) {
             const InstanceHandle h = world.create(package);
             world.setLook(h, look);
@@ -47,7 +46,7 @@ TEST(BakedPackage, WorldImagesEqualRenderLookImage) {
             const InstanceState s = world.state(h);
             ASSERT_EQ(s.frame, frame);
             std::vector<float> want(static_cast<size_t>(d.pixelCount()) * 4);
-            basis::renderLookImage(d, f, u, look, want);
+            basis::renderLookImage(d, f, look, want);
             double peak = 0.0;
             for (size_t i = 0; i < want.size(); ++i)
                 if (i % 4 != 3) peak = std::max(peak, static_cast<double>(want[i]));

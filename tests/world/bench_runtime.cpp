@@ -134,7 +134,7 @@ int main(int argc, char** argv) {
         std::vector<float> scratch(z.size());
         const double s_fast = medianSeconds(reps, [&] {
             for (int i = 0; i < inner; ++i)
-                runtime::computeCoefficientsFast(d, factors, a.extinction(), model.emission.coefficients.data(),
+                runtime::computeCoefficientsFast(d, factors.svt.data(), factors.rank, a.extinction(), model.emission.coefficients.data(),
                                                  a.light_irradiance.data(), scratch.data(), z.data());
         });
         const double c_fast = g_cpu;

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <new>
 #include <unordered_set>
+#include <utility>
 
 #include "checksum.h"
 #include "package/error.h"
@@ -119,9 +120,20 @@ void validateEntry(const IndexEntry& entry, uint64_t data_end, uint64_t index_of
 }  // namespace
 
 PackageReader PackageReader::open(const std::filesystem::path& file, const ReaderOptions& options) {
+    return validated(file, detail::MappedFile::open(file, options.memory_map), options);
+}
+
+PackageReader PackageReader::openMemory(std::span<const std::byte> bytes, MemoryOwnership ownership,
+                                        const std::filesystem::path& name, const ReaderOptions& options) {
+    return validated(name, detail::MappedFile::fromMemory(bytes, ownership, name), options);
+}
+
+PackageReader PackageReader::validated(std::filesystem::path name, detail::MappedFile held,
+                                       const ReaderOptions& options) {
     PackageReader reader;
-    reader.file_ = file;
-    reader.file_bytes_ = detail::MappedFile::open(file, options.memory_map);
+    reader.file_ = std::move(name);
+    reader.file_bytes_ = std::move(held);
+    const std::filesystem::path& file = reader.file_;
     const std::span<const std::byte> bytes = reader.file_bytes_.bytes();
     const FileHeader header = validatedHeader(bytes, file);
     reader.version_ = FormatVersion{header.version_major, header.version_minor};
@@ -227,6 +239,22 @@ std::vector<std::byte> PackageReader::read(const SectionInfo& section) const {
         throw PackageError(ErrorCode::OutOfMemory, file_,
                            "no memory to copy " + detail::sectionName(ours.type, ours.frame));
     }
+}
+
+SectionBuffer::SectionBuffer() : zstd_(std::make_unique<detail::ZstdDecompressor>()) {}
+SectionBuffer::~SectionBuffer() = default;
+SectionBuffer::SectionBuffer(SectionBuffer&&) noexcept = default;
+SectionBuffer& SectionBuffer::operator=(SectionBuffer&&) noexcept = default;
+
+std::span<const std::byte> PackageReader::read(const SectionInfo& section, SectionBuffer& buffer) const {
+    const std::size_t index = indexOf(section, "read");
+    const SectionInfo& ours = sections_[index];
+    const std::span<const std::byte> stored = verifiedStoredBytes(index);
+    if (ours.codec != Codec::Zstd) return stored;  // checksum-verified, in place
+    if (!buffer.zstd_) buffer.zstd_ = std::make_unique<detail::ZstdDecompressor>();  // a moved-from buffer
+    detail::zstdDecompress(stored, ours.raw_size, file_, detail::sectionName(ours.type, ours.frame),
+                           buffer.zstd_.get(), buffer.bytes_);
+    return {buffer.bytes_.data(), buffer.bytes_.size()};
 }
 
 std::span<const std::byte> PackageReader::mapped(const SectionInfo& section) const {

@@ -86,8 +86,17 @@ std::span<const std::byte> ZstdCompressor::compress(std::span<const std::byte> r
     return std::span<const std::byte>(buffer_.data(), result);
 }
 
+void ZstdDecompressor::ContextDeleter::operator()(ZSTD_DCtx_s* context) const { ZSTD_freeDCtx(context); }
+
 std::vector<std::byte> zstdDecompress(std::span<const std::byte> stored, uint64_t raw_size,
                                       const std::filesystem::path& file, const std::string& what) {
+    std::vector<std::byte> raw;
+    zstdDecompress(stored, raw_size, file, what, nullptr, raw);
+    return raw;
+}
+
+void zstdDecompress(std::span<const std::byte> stored, uint64_t raw_size, const std::filesystem::path& file,
+                    const std::string& what, ZstdDecompressor* decompressor, std::vector<std::byte>& raw) {
     const size_t frame_size = ZSTD_findFrameCompressedSize(stored.data(), stored.size());
     if (ZSTD_isError(frame_size)) {
         throw PackageError(decompressionErrorCode(frame_size), file,
@@ -108,14 +117,19 @@ std::vector<std::byte> zstdDecompress(std::span<const std::byte> stored, uint64_
                            what + ": the zstd frame decodes to " + std::to_string(content_size) +
                                " bytes but the index says " + std::to_string(raw_size));
     }
-    std::vector<std::byte> raw;
     try {
         raw.resize(raw_size);
     } catch (const std::bad_alloc&) {
         throw PackageError(ErrorCode::OutOfMemory, file,
                            "no memory for the " + std::to_string(raw_size) + " decoded bytes of " + what);
     }
-    const size_t result = ZSTD_decompress(raw.data(), raw.size(), stored.data(), stored.size());
+    ZSTD_DCtx* context = nullptr;
+    if (decompressor) {
+        if (!decompressor->context) decompressor->context.reset(ZSTD_createDCtx());
+        context = decompressor->context.get();
+    }
+    const size_t result = context ? ZSTD_decompressDCtx(context, raw.data(), raw.size(), stored.data(), stored.size())
+                                  : ZSTD_decompress(raw.data(), raw.size(), stored.data(), stored.size());
     if (ZSTD_isError(result)) {
         throw PackageError(decompressionErrorCode(result), file,
                            "zstd failed to decode " + what + ": " + ZSTD_getErrorName(result));
@@ -125,7 +139,6 @@ std::vector<std::byte> zstdDecompress(std::span<const std::byte> stored, uint64_
             ErrorCode::Corrupt, file,
             what + " decoded to " + std::to_string(result) + " bytes, expected " + std::to_string(raw_size));
     }
-    return raw;
 }
 
 }  // namespace firelook::package::detail

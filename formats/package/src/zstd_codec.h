@@ -9,6 +9,7 @@
 #include <vector>
 
 struct ZSTD_CCtx_s;
+struct ZSTD_DCtx_s;
 
 namespace firelook::package::detail {
 
@@ -43,5 +44,17 @@ class ZstdCompressor {
 // Throws PackageError naming `file` and `what` (Corrupt, UnsupportedFeature or OutOfMemory).
 std::vector<std::byte> zstdDecompress(std::span<const std::byte> stored, uint64_t raw_size,
                                       const std::filesystem::path& file, const std::string& what);
+
+// A zstd decompression context kept between calls (created on first use).
+struct ZstdDecompressor {
+    struct ContextDeleter {
+        void operator()(ZSTD_DCtx_s* context) const;
+    };
+    std::unique_ptr<ZSTD_DCtx_s, ContextDeleter> context;
+};
+
+// The same into `raw` (its capacity reused), with `decompressor`'s context when not null.
+void zstdDecompress(std::span<const std::byte> stored, uint64_t raw_size, const std::filesystem::path& file,
+                    const std::string& what, ZstdDecompressor* decompressor, std::vector<std::byte>& raw);
 
 }  // namespace firelook::package::detail

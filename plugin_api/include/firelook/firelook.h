@@ -14,9 +14,11 @@
       header the library cannot serve (another major, a newer minor, a struct
       smaller than first published) is refused with FL_ERROR_VERSION_MISMATCH
       instead of misreading your structs.
-   2. Load a package: fl_package_load(path, &package). fl_package_get_info()
-      and friends describe it (frames, size, rank per frame, bins, lights,
-      parameter ranges, default look as JSON).
+   2. Load a package: fl_package_load(path, &package), or from bytes the
+      engine read from its own archive: fl_package_load_memory(), copied or
+      borrowed (see there for how long borrowed bytes must live).
+      fl_package_get_info() and friends describe it (frames, size, rank per
+      frame, bins, lights, parameter ranges, default look as JSON).
    3. Make looks from look-file JSON (fl_look_from_json) or take the
       package's default (fl_package_default_look).
    4. Create a world (fl_world_create) and instances in it
@@ -53,7 +55,9 @@
      through buffers the caller provides (with the needed size reported, so a
      call with capacity 0 asks for the size); the only borrowed pointers are
      the strings from fl_result_string() (static) and fl_last_error() (valid
-     until the calling thread's next FireLook call).
+     until the calling thread's next FireLook call). The library keeps no
+     pointer into the caller's memory once a call returns, but for the bytes
+     of a package loaded with FL_PACKAGE_MEMORY_BORROW.
    - No C++ exception crosses this API. Non-finite inputs are refused.
    - Thread-safety: fl_init/fl_shutdown must not overlap any other call.
      Package and look calls (load, release, query, from_json) are safe from
@@ -199,6 +203,34 @@ typedef struct fl_package_info {
 
 /* Thread-safe. Loads the package's description (frames are read on demand). */
 FIRELOOK_API fl_result fl_package_load(const char* path, fl_package* out_package);
+/* Flags of fl_package_memory_desc. */
+enum {
+    /* Use the caller's bytes in place instead of copying them (see fl_package_load_memory). */
+    FL_PACKAGE_MEMORY_BORROW = 1
+};
+
+/* How fl_package_load_memory holds the caller's bytes. First published size: through flags. */
+typedef struct fl_package_memory_desc {
+    uint32_t struct_size;  /* sizeof(fl_package_memory_desc) */
+    uint32_t flags;        /* 0: copy the bytes (the default); FL_PACKAGE_MEMORY_BORROW; other bits are refused */
+} fl_package_memory_desc;
+
+/* Thread-safe. A package from `size` bytes at `data` (e.g. read by the engine from its own archive), with
+   exactly the checks and results of fl_package_load on a file holding those bytes (garbage that does not
+   start like a package: FL_ERROR_NOT_A_PACKAGE; truncated or damaged: FL_ERROR_CORRUPT; ...). source_name
+   (may be null: "(memory)") stands for the file in every message (fl_last_error()). data null or
+   size 0: FL_ERROR_INVALID_ARGUMENT. desc may be null (copy).
+   - Copied (flags 0): the bytes are copied into the library's own 64-byte aligned buffer before the call
+     returns; the caller may free or reuse its buffer as soon as the call returns, whatever the result.
+   - Borrowed (FL_PACKAGE_MEMORY_BORROW): nothing is copied and frames are read from the caller's bytes on
+     demand (checksums on first use), so the buffer must be 64-byte aligned (else FL_ERROR_INVALID_ARGUMENT,
+     nothing loaded; use a copy for any other alignment) and must stay valid and unchanged until all of:
+     fl_package_release() (or fl_shutdown()) has returned for the package, every instance created with it
+     has been destroyed (fl_instance_destroy, fl_world_destroy or fl_shutdown: instances keep package data
+     alive), and no call on the package from another thread is still running. A failed load keeps no
+     reference to the buffer. */
+FIRELOOK_API fl_result fl_package_load_memory(const void* data, size_t size, const char* source_name,
+                                              const fl_package_memory_desc* desc, fl_package* out_package);
 /* Thread-safe. Instances that use it keep its data alive until they are destroyed; the handle dies now. */
 FIRELOOK_API fl_result fl_package_release(fl_package package);
 FIRELOOK_API fl_result fl_package_get_info(fl_package package, fl_package_info* out_info);
@@ -404,6 +436,11 @@ FIRELOOK_INLINE fl_outputs_desc fl_outputs_desc_defaults(void) {
 FIRELOOK_INLINE fl_package_info fl_package_info_defaults(void) {
     fl_package_info d = FIRELOOK_ZERO;
     d.struct_size = (uint32_t)sizeof(fl_package_info);
+    return d;
+}
+FIRELOOK_INLINE fl_package_memory_desc fl_package_memory_desc_defaults(void) {
+    fl_package_memory_desc d = FIRELOOK_ZERO;
+    d.struct_size = (uint32_t)sizeof(fl_package_memory_desc);
     return d;
 }
 FIRELOOK_INLINE fl_instance_state fl_instance_state_defaults(void) {
