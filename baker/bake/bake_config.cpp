@@ -78,7 +78,8 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         if (j.contains("temperature_offset")) c.read.temperature_offset = j["temperature_offset"].get<double>();
         if (j.contains("axes")) {
             const json& a = j["axes"];
-            checkKeys(a, {"temperature_threshold", "smoke_extinction", "flame_extinction"}, "axes");
+            checkKeys(a, {"temperature_threshold", "smoke_extinction", "flame_extinction", "collapse_unused"}, "axes");
+            if (a.contains("collapse_unused")) c.collapse_unused_axes = a["collapse_unused"].get<bool>();
             if (a.contains("temperature_threshold")) c.axes.temperature_threshold = axisFromJson(a["temperature_threshold"]);
             if (a.contains("smoke_extinction")) c.axes.smoke_extinction = axisFromJson(a["smoke_extinction"]);
             if (a.contains("flame_extinction")) c.axes.flame_extinction = axisFromJson(a["flame_extinction"]);
@@ -166,7 +167,8 @@ std::string configToJson(const BakeConfig& c) {
     j["albedo"] = c.albedo;
     j["axes"] = {{"temperature_threshold", c.axes.temperature_threshold},
                  {"smoke_extinction", c.axes.smoke_extinction},
-                 {"flame_extinction", c.axes.flame_extinction}};
+                 {"flame_extinction", c.axes.flame_extinction},
+                 {"collapse_unused", c.collapse_unused_axes}};
     j["alpha_threshold_samples"] = c.alpha_threshold_samples;
     j["trace"] = {{"cell_voxels", c.trace.cell_voxels},
                   {"max_cells_per_axis", c.trace.max_cells_per_axis},

@@ -26,6 +26,9 @@ struct BakeConfig {
     double albedo = 0.7;
     // Sampled extinction parameters; one value collapses an axis (that parameter is fixed).
     basis::ParameterAxes axes{{1.0, 1.2, 1.4, 1.6, 1.8, 2.0}, {2.0, 4.0, 8.0, 16.0}, {0.5, 1.5, 4.0}};
+    // An axis whose samples cannot change any frame's image is baked at one sample (axis_collapse.h).
+    // JSON: "axes": {"collapse_unused": false}; firelook bake --keep-axes.
+    bool collapse_unused_axes = true;
     int alpha_threshold_samples = 21;  // T_c samples of the per-pixel optical depths (exact alpha)
     TraceSettings trace;
     CompressionSettings compression;

@@ -120,31 +120,44 @@ basis::BakeDescription describeBake(const vdb::VdbSequence& sequence, const Bake
     return d;
 }
 
-BasisModel basisModelOf(const basis::BakeDescription& d) {
-    BasisModel m;
-    m.bins = d.bins;
-    m.rbf_width = d.rbf_width;
-    m.albedo = d.albedo;
-    m.emission_clamp_to_centres = d.emission_clamp_to_centres;
-    m.axes = d.axes;
-    m.light_directions = d.light_directions;
-    m.alpha_thresholds = d.alpha_thresholds;
-    return m;
+AxisAnalysis analyseSequenceAxes(const vdb::VdbSequence& sequence, const std::vector<int>& frames,
+                                 const basis::BakeDescription& description, const BakeConfig& config,
+                                 const std::function<bool(int frame)>& keep_going) {
+    DensityTemperatureRange range;
+    for (int frame : frames) {
+        if (keep_going && !keep_going(frame)) throw std::runtime_error("cancelled");
+        range.merge(densityTemperatureRange(mediumFromFrame(sequence.load(frame))));
+    }
+    return analyseAxes(description.axes, description.bins, range, collapseTolerance(config.storage));
 }
 
 BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::path& output,
                        const BakeConfig& config, const std::string& tool_version,
-                       const std::function<bool(double, const std::string&)>& progress) {
+                       const std::function<bool(double, const std::string&)>& progress,
+                       const std::function<void(const std::string&)>& notice) {
     const auto start = std::chrono::steady_clock::now();
     const vdb::VdbSequence sequence = vdb::VdbSequence::open(sequence_path, config.read);
     const std::vector<int> frames = selectFrames(sequence, config.frames);
     const SceneSetup scene = resolveScene(sequence, config.scene);
     basis::BakeDescription description = describeBake(sequence, config, scene);
-    const BasisModel model = basisModelOf(description);
+    BakeReport report;
+    // Before any tracing, since every frame of a package shares the axes: one extra load of each
+    // frame, small beside its trace.
+    const auto& ax = description.axes;
+    if (config.collapse_unused_axes &&
+        (ax.temperature_threshold.size() > 1 || ax.smoke_extinction.size() > 1 || ax.flame_extinction.size() > 1)) {
+        report.axes = analyseSequenceAxes(sequence, frames, description, config, [&](int frame) {
+            return !progress || progress(0.0, "frame " + std::to_string(frame) + ": checking the look axes");
+        });
+        report.axes_analysed = true;
+        applyAxisCollapse(description, report.axes);
+        if (notice)
+            for (const AxisCollapse& c : report.axes.collapsed) notice(describeAxisCollapse(c, report.axes));
+    }
+    const BasisModel model = description;
 
     const uint64_t budget = config.memory_budget_bytes ? config.memory_budget_bytes : defaultMemoryBudget();
     package::PackageWriter writer(output);
-    BakeReport report;
     report.memory_budget_bytes = budget;
     nlohmann::ordered_json sources = nlohmann::ordered_json::array();
     nlohmann::ordered_json frame_errors = nlohmann::ordered_json::array();
@@ -185,6 +198,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         fr.light_spacing_voxels = plan.trace.light_spacing_voxels;
         fr.cell_optical_depth = plan.trace.cell_optical_depth;
         fr.estimated_peak_bytes = plan.peakBytes();
+        fr.columns_traced = static_cast<uint64_t>(model.axes.pointCount()) * model.columnsPerPoint();
         auto t0 = std::chrono::steady_clock::now();
         const FrameBasis traced = traceFrameBasis(medium, scene.camera, model, trace, plan.trace, frame_progress);
         fr.trace_seconds = secondsSince(t0);
@@ -244,6 +258,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
                        {"width", cam.width},
                        {"height", cam.height}};
     extra["errors"] = frame_errors;
+    if (report.axes_analysed) extra["axis_collapse"] = nlohmann::ordered_json::parse(axisAnalysisToJson(report.axes));
     writer.addMetadata(basis::makeMetadata(description, extra.dump()));
     writer.commit();
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "bake/axis_collapse.h"
 #include "bake/bake_config.h"
 #include "basis/bake_description.h"
 
@@ -32,6 +33,7 @@ struct FrameBakeReport {
     double setup_seconds = 0.0, light_seconds = 0.0, photon_seconds = 0.0, camera_seconds = 0.0;
     uint64_t estimated_peak_bytes = 0;
     uint64_t active_voxels = 0;
+    uint64_t columns_traced = 0;  // basis columns: grid points x (bins + lights)
 };
 
 struct BakeReport {
@@ -41,6 +43,10 @@ struct BakeReport {
     uint64_t uncompressed_basis_bytes = 0;  // float32 basis images the package stands for
     long peak_memory_kib = 0;
     uint64_t memory_budget_bytes = 0;  // the budget the bake ran under
+    // Which axes could not change any frame and were baked at one sample (axis_collapse.h);
+    // axes_analysed is false when no axis had two samples or collapse_unused_axes was off.
+    bool axes_analysed = false;
+    AxisAnalysis axes;
 };
 
 // The default --memory-budget: 60% of the machine's physical memory (the rest for the system and
@@ -66,12 +72,16 @@ FrameMemoryPlan frameMemoryPlan(const render::Medium& medium, const render::Came
 basis::BakeDescription describeBake(const vdb::VdbSequence& sequence, const BakeConfig& config,
                                     const SceneSetup& scene);
 
-BasisModel basisModelOf(const basis::BakeDescription& description);
-
 // progress(fraction, detail) returns false to cancel: the bake then throws and
-// leaves no package behind.
+// leaves no package behind. notice gets one line per axis collapsed, before any tracing.
 BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::path& output,
                        const BakeConfig& config, const std::string& tool_version,
-                       const std::function<bool(double, const std::string&)>& progress = {});
+                       const std::function<bool(double, const std::string&)>& progress = {},
+                       const std::function<void(const std::string&)>& notice = {});
+
+// The axis analysis of the frames `frames` (loads each once), as bakePackage does it.
+AxisAnalysis analyseSequenceAxes(const vdb::VdbSequence& sequence, const std::vector<int>& frames,
+                                 const basis::BakeDescription& description, const BakeConfig& config,
+                                 const std::function<bool(int frame)>& keep_going = {});
 
 }  // namespace firelook::bake

@@ -33,6 +33,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "basis/bake_description.h"
 #include "basis/parameter_grid.h"
 #include "look/look_model.h"
 #include "render/camera.h"
@@ -40,18 +41,9 @@
 
 namespace firelook::bake {
 
-// The part of a bake that fixes what the basis images are.
-struct BasisModel {
-    TemperatureBins bins;
-    double rbf_width = 0.9;
-    double albedo = 0.8;
-    bool emission_clamp_to_centres = true;     // look_model.h, EmissionBasis::clamp_to_centres
-    basis::ParameterAxes axes;
-    std::vector<glm::dvec3> light_directions;  // direction each light travels
-    std::vector<double> alpha_thresholds;      // T_c samples for the optical depth maps
-
-    int columnsPerPoint() const { return bins.count + static_cast<int>(light_directions.size()); }
-};
+// The part of a bake that fixes what the basis images are: one struct with the package's
+// description, which extends it (basis/bake_description.h).
+using basis::BasisModel;
 
 struct TraceSettings {
     // Smallest edge of the coarse cells that hold the scattered light, in voxels. 2 because the

@@ -39,13 +39,17 @@ void writeReportJson(const std::string& path, const bake::BakeReport& report) {
                           {"cell_edge_voxels", f.cell_edge_voxels},
                           {"light_spacing_voxels", f.light_spacing_voxels},
                           {"cell_optical_depth", f.cell_optical_depth},
-                          {"estimated_peak_mib", f.estimated_peak_bytes / 1048576.0}});
-    const nlohmann::ordered_json doc = {{"seconds", report.seconds},
+                          {"estimated_peak_mib", f.estimated_peak_bytes / 1048576.0},
+                          {"columns_traced", f.columns_traced}});
+    nlohmann::ordered_json doc = {{"seconds", report.seconds},
                                         {"peak_memory_mib", report.peak_memory_kib / 1024.0},
                                         {"memory_budget_mib", report.memory_budget_bytes / 1048576.0},
                                         {"package_bytes", report.package_bytes},
                                         {"uncompressed_basis_bytes", report.uncompressed_basis_bytes},
                                         {"frames", frames}};
+    // null when the axes were kept as given without looking (--keep-axes, or no axis to collapse).
+    doc["axis_collapse"] = report.axes_analysed ? nlohmann::ordered_json::parse(bake::axisAnalysisToJson(report.axes))
+                                                : nlohmann::ordered_json(nullptr);
     writeFileAtomically(path, doc.dump(2) + "\n");
 }
 
@@ -55,6 +59,7 @@ void registerBakeCommand(CLI::App& app) {
     struct Args {
         std::string sequence, output, frames, report_json, memory_budget;
         uint64_t seed = 1;
+        bool keep_axes = false;
         SceneFlags scene;
     };
     auto args = std::make_shared<Args>();
@@ -69,19 +74,24 @@ void registerBakeCommand(CLI::App& app) {
                     "most memory the bake may hold, e.g. 6G (binary units K, M, G, T); default 60% of the machine's "
                     "physical memory. Each frame's needs are estimated before it is traced: the scattered-light "
                     "cells are coarsened to fit, and a frame that cannot fit stops the bake with nothing written");
+    cmd->add_flag("--keep-axes", args->keep_axes,
+                  "bake every sample of every look axis, even an axis whose samples cannot change any frame "
+                  "(by default such an axis is baked at one sample and the bake says so)");
     addSceneFlags(*cmd, args->scene);
     cmd->callback([cmd, args] {
         bake::BakeConfig config = makeBakeConfig(*cmd, args->scene);
         if (!args->frames.empty()) config.frames = args->frames;
         if (cmd->count("--seed") || args->scene.config.empty()) config.seed = args->seed;
         if (!args->memory_budget.empty()) config.memory_budget_bytes = bake::parseByteSize(args->memory_budget);
+        if (args->keep_axes) config.collapse_unused_axes = false;
         ProgressBar bar("bake");
         const bake::BakeReport report = bake::bakePackage(
             args->sequence, args->output, config, kToolVersion, [&](double fraction, const std::string& detail) {
                 bar.update(fraction, detail);
                 throwIfInterrupted();  // unwinds through the writer, which deletes its temporary file
                 return true;
-            });
+            },
+            [](const std::string& line) { std::fprintf(stderr, "firelook: %s\n", line.c_str()); });
         bar.finish(std::to_string(report.frames.size()) + " frames");
         std::printf("wrote %s: %zu frames, %.1f MB (%.2f%% of the %.1f MB of float basis images)\n",
                     args->output.c_str(), report.frames.size(), report.package_bytes / 1e6,

@@ -23,6 +23,7 @@
 #include "bake/bake_pipeline.h"
 #include "bake/scene_setup.h"
 #include "basis/basis_package.h"
+#include "basis/coefficients.h"
 #include "basis/look_renderer.h"
 #include "basis/recombine.h"
 #include "cli/commands.h"
@@ -79,26 +80,29 @@ render::RenderImage toImage(const basis::BakeDescription& d, std::vector<float> 
     return {d.width, d.height, std::move(rgba)};
 }
 
-// The image of a look from an uncompressed basis matrix (pixels x points*C) with
-// grid weights, alpha from the package's exact depths.
+// An uncompressed basis matrix (pixels x columns, row-major) transposed to the column-major
+// layout of S V^T, so the coefficient kernel weights its columns.
+std::vector<float> columnMajor(const bake::FrameBasis& b) {
+    const size_t pixels = static_cast<size_t>(b.width) * b.height, columns = static_cast<size_t>(b.columns);
+    std::vector<float> t(b.matrix.size());
+    for (size_t p = 0; p < pixels; ++p)
+        for (size_t c = 0; c < columns; ++c) t[c * pixels + p] = b.matrix[p * columns + c];
+    return t;
+}
+
+// The image of a look from an uncompressed basis (columnMajor) traced with `traced`: the
+// coefficient kernel with the pixels as its rank (the same weighted sum the package's
+// z = S V^T w is), alpha from the package's exact depths.
 std::vector<float> imageFromBasis(const basis::BakeDescription& d, const basis::ResidentFrame& factors,
-                                  const bake::FrameBasis& b, const basis::ParameterAxes& axes, const Look& look,
-                                  const LookModel& model) {
-    const basis::GridWeights grid = basis::interpolationWeights(axes, look.extinction());
-    const int C = d.columnsPerPoint();
-    const size_t pixels = static_cast<size_t>(d.pixelCount());
-    std::vector<float> rgba(pixels * 4, 0.0f);
-    for (size_t p = 0; p < pixels; ++p) {
-        Rgb sum(0.0f);
-        for (int g = 0; g < grid.count; ++g)
-            for (int c = 0; c < C; ++c) {
-                const Rgb coef = c < d.bins.count ? model.emission.coefficients[c] : look.light_irradiance[c - d.bins.count];
-                sum += grid.weight[g] * b.matrix[p * b.columns + grid.point[g] * C + c] * coef;
-            }
-        rgba[p * 4 + 0] = std::max(sum.r, 0.0f);
-        rgba[p * 4 + 1] = std::max(sum.g, 0.0f);
-        rgba[p * 4 + 2] = std::max(sum.b, 0.0f);
-        rgba[p * 4 + 3] = basis::pixelAlpha(d, factors, static_cast<int>(p), look.extinction());
+                                  const std::vector<float>& basis_columns, const basis::BasisModel& traced,
+                                  const Look& look, const LookModel& model) {
+    const int pixels = d.pixelCount();
+    std::vector<float> rgb(static_cast<size_t>(pixels) * 3), rgba(static_cast<size_t>(pixels) * 4);
+    basis::coefficientKernel(traced, basis_columns.data(), pixels, look.extinction(),
+                             model.emission.coefficients.data(), look.light_irradiance.data(), rgb.data());
+    for (int p = 0; p < pixels; ++p) {
+        for (int ch = 0; ch < 3; ++ch) rgba[p * 4 + ch] = std::max(rgb[p * 3 + ch], 0.0f);
+        rgba[p * 4 + 3] = basis::pixelAlpha(d, factors, p, look.extinction());
     }
     return rgba;
 }
@@ -281,12 +285,12 @@ void registerBenchCommand(CLI::App& app) {
             std::optional<render::FootprintTransmittance> exact_alpha;
             // The resident form: what the runtime world draws.
             const basis::ResidentFrame factors = package.loadResidentFrame(frame, std::pmr::get_default_resource());
-            bake::FrameBasis full;
+            std::vector<float> full;  // columnMajor of the frame's basis at the package's grid
             bake::TraceSettings frame_trace = trace;
             frame_trace.seed = bake_seed * 1000003ULL + static_cast<uint64_t>(frame);  // as bakePackage seeds it
             const auto keep_tracing = [](double) { return !interruptRequested(); };
             if (args->split)
-                full = bake::traceFrameBasis(medium, camera, bake::basisModelOf(d), frame_trace, keep_tracing);
+                full = columnMajor(bake::traceFrameBasis(medium, camera, d, frame_trace, keep_tracing));
             throwIfInterrupted();
             for (int k = 0; k < args->looks; ++k) {
                 throwIfInterrupted();
@@ -377,12 +381,13 @@ void registerBenchCommand(CLI::App& app) {
                                     {"image_ms", image_ms.back()}};
                 if (args->split) {
                     basis::ParameterAxes point{{look.temperature_threshold}, {look.smoke_extinction}, {look.flame_extinction}};
-                    bake::BasisModel direct_model = bake::basisModelOf(d);
+                    basis::BasisModel direct_model = d;
                     direct_model.axes = point;
-                    const bake::FrameBasis direct =
-                        bake::traceFrameBasis(medium, camera, direct_model, frame_trace, keep_tracing);
-                    const render::RenderImage direct_image = toImage(d, imageFromBasis(d, factors, direct, point, look, model));
-                    const render::RenderImage blended = toImage(d, imageFromBasis(d, factors, full, d.axes, look, model));
+                    const std::vector<float> direct =
+                        columnMajor(bake::traceFrameBasis(medium, camera, direct_model, frame_trace, keep_tracing));
+                    const render::RenderImage direct_image =
+                        toImage(d, imageFromBasis(d, factors, direct, direct_model, look, model));
+                    const render::RenderImage blended = toImage(d, imageFromBasis(d, factors, full, d, look, model));
                     e_trace.push_back(render::relativeRmse(direct_image, ref.image));
                     e_interp.push_back(render::relativeRmse(blended, direct_image));
                     e_compress.push_back(render::relativeRmse(pkg, blended));

@@ -130,8 +130,21 @@ void printPackage(const ordered_json& info) {
                     bake["width"].get<int>(), bake["height"].get<int>(), bins["count"].get<int>(),
                     bins["t_lo"].get<double>(), bins["t_hi"].get<double>(), bake["rbf_width"].get<double>(),
                     bake["albedo"].get<double>(), bake["light_directions"].size());
-        for (const char* axis : {"temperature_threshold", "smoke_extinction", "flame_extinction"})
-            std::printf("  %-22s %s\n", axis, bake["axes"][axis].dump().c_str());
+        const ordered_json& meta = info["metadata"];
+        for (const char* axis : {"temperature_threshold", "smoke_extinction", "flame_extinction"}) {
+            // A collapsed axis says what was asked for and why one sample stands for it (axis_collapse.h).
+            std::string collapsed;
+            if (meta.contains("axis_collapse"))
+                for (const ordered_json& c : meta["axis_collapse"]["collapsed"])
+                    if (c["axis"] == axis) {
+                        char text[160];
+                        std::snprintf(text, sizeof text, "  (collapsed from %zu samples %g..%g: they change sigma_t by at most %.2g)",
+                                      c["requested"].size(), c["requested"].front().get<double>(),
+                                      c["requested"].back().get<double>(), c["relative_change"].get<double>());
+                        collapsed = text;
+                    }
+            std::printf("  %-22s %s%s\n", axis, bake["axes"][axis].dump().c_str(), collapsed.c_str());
+        }
         std::printf("  frames (frame:rank):");
         for (const ordered_json& f : bake["frames"]) std::printf(" %d:%d", f["frame"].get<int>(), f["rank"].get<int>());
         std::printf("\n");

@@ -547,6 +547,14 @@ FIRELOOK_API fl_result fl_world_instance_count(fl_world h, uint32_t* out_count) 
     });
 }
 
+FIRELOOK_API fl_result fl_world_memory(fl_world h, uint64_t* frame_cache_bytes, uint64_t* instance_bytes) {
+    return guarded("fl_world_memory", [&] {
+        const runtime::World& world = findWorld(h);
+        if (frame_cache_bytes) *frame_cache_bytes = world.cacheBytes();
+        if (instance_bytes) *instance_bytes = world.instanceBytes();
+    });
+}
+
 FIRELOOK_API fl_result fl_instance_create(fl_world w, const fl_instance_desc* desc, fl_instance* out) {
     return guarded("fl_instance_create", [&] {
         checkPointer(out, "out_instance");

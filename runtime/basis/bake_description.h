@@ -18,7 +18,9 @@ struct FrameRecord {
     int rank = 0;
 };
 
-struct BakeDescription {
+// What fixes the basis images: the bake traces them from this (baker/bake/basis_tracer.h), the
+// runtime weights their columns by it. A BakeDescription is this plus how the package stores them.
+struct BasisModel {
     TemperatureBins bins;
     double rbf_width = 0.9;          // Gaussian RBF width in units of dT
     // The emission rule the basis was traced with (look_model.h, EmissionBasis::clamp_to_centres).
@@ -26,17 +28,21 @@ struct BakeDescription {
     double albedo = 0.8;             // fixed at bake time
     ParameterAxes axes;              // sampled extinction parameters
     std::vector<double> alpha_thresholds;  // T_c samples of the per-pixel optical depth maps
+    std::vector<glm::dvec3> light_directions;  // direction each light travels, world space
+
+    int columnsPerPoint() const { return bins.count + static_cast<int>(light_directions.size()); }
+    int columnCount() const { return axes.pointCount() * columnsPerPoint(); }
+};
+
+struct BakeDescription : BasisModel {
     // Optical depths are stored for this many rays per pixel (a square grid over
     // its footprint) so alpha = mean of 1 - exp(-tau) is exact for any (k_s, k_f).
     int footprint_samples = 1;
-    std::vector<glm::dvec3> light_directions;  // direction each light travels, world space
     int width = 0;
     int height = 0;
     std::vector<FrameRecord> frames;
     std::string default_look_json;   // a firelook-look document
 
-    int columnsPerPoint() const { return bins.count + static_cast<int>(light_directions.size()); }
-    int columnCount() const { return axes.pointCount() * columnsPerPoint(); }
     int pixelCount() const { return width * height; }  // parseBakeDescription bounds it by 2^28
     const FrameRecord* findFrame(int frame) const;
 };

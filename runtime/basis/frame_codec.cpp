@@ -508,16 +508,23 @@ struct CodeStream {
         const auto* p = reinterpret_cast<const uint8_t*>(in.need(count * 2));
         return {p, p + count, count};
     }
-    // Codes [at, at + n), n <= 8, zig-zag undone; lanes from n on are 0. Reads 8 codes wherever
-    // the stream has them and masks the rest (a short copy only at the stream's very end).
-    FIRELOOK_ALWAYS_INLINE void residuals(v8s& out, size_t at, int n) const {
-        v8b l = {}, h = {};
-        if (at + 8 <= count) {
+    // Codes [at, at + n), n <= lanes of S (8 or 16), zig-zag undone; lanes from n on are 0.
+    // Reads whole vectors wherever the stream has them and masks the rest (a short copy only at
+    // the stream's very end).
+    template <typename S, typename U, typename B>
+    FIRELOOK_ALWAYS_INLINE void residuals(S& out, size_t at, int n) const {
+        constexpr int kLanes = sizeof(S) / 2;
+        B l = {}, h = {};
+        if (at + kLanes <= count) {
             simd::load(l, lo + at);
             simd::load(h, hi + at);
-            if (n < 8) {
-                const v8b lane = {0, 1, 2, 3, 4, 5, 6, 7};
-                const v8b keep = lane < static_cast<uint8_t>(n);
+            if (n < kLanes) {
+                B lane;
+                if constexpr (kLanes == 8)
+                    lane = B{0, 1, 2, 3, 4, 5, 6, 7};
+                else
+                    lane = B{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+                const B keep = reinterpret_cast<B>(lane < static_cast<uint8_t>(n));
                 l &= keep;
                 h &= keep;
             }
@@ -527,8 +534,8 @@ struct CodeStream {
                 h[i] = hi[at + i];
             }
         }
-        const v8u z = __builtin_convertvector(l, v8u) | (__builtin_convertvector(h, v8u) << 8);
-        out = reinterpret_cast<v8s>((z >> 1) ^ (v8u{} - (z & 1)));
+        const U z = __builtin_convertvector(l, U) | (__builtin_convertvector(h, U) << 8);
+        out = reinterpret_cast<S>((z >> 1) ^ (U{} - (z & 1)));
     }
 };
 
@@ -555,41 +562,46 @@ struct ReorderedCodes {
     }
 };
 
-// The median edge detector (medPredict) on 8 planes at once; the sums wrap as int16 arithmetic
-// does in the scalar encoder.
-FIRELOOK_ALWAYS_INLINE void medPredict8(v8s& out, const v8s& a, const v8s& b, const v8s& c) {
-    const v8s lo = a < b ? a : b, hi = a < b ? b : a;
-    const v8s mid = reinterpret_cast<v8s>(reinterpret_cast<v8u>(a) + reinterpret_cast<v8u>(b) -
-                                          reinterpret_cast<v8u>(c));
+// The median edge detector (medPredict) on 8 or 16 planes at once; the sums wrap as int16
+// arithmetic does in the scalar encoder.
+template <typename S, typename U>
+FIRELOOK_ALWAYS_INLINE void medPredictLanes(S& out, const S& a, const S& b, const S& c) {
+    const S lo = a < b ? a : b, hi = a < b ? b : a;
+    const S mid = reinterpret_cast<S>(reinterpret_cast<U>(a) + reinterpret_cast<U>(b) - reinterpret_cast<U>(c));
     out = c >= hi ? lo : (c <= lo ? hi : mid);
 }
 
-FIRELOOK_ALWAYS_INLINE void addWrapping(v8s& out, const v8s& prediction, const v8s& residual) {
-    out = reinterpret_cast<v8s>(reinterpret_cast<v8u>(prediction) + reinterpret_cast<v8u>(residual));
+// Lanes [g, g + width of S) of one item from its prediction (neighbours may be null: the
+// predictAt edge rules).
+template <typename S, typename U, typename B>
+FIRELOOK_ALWAYS_INLINE void decodeLanes(const CodeStream& codes, size_t first_code, int lanes, int g,
+                                        const int16_t* left, const int16_t* up, const int16_t* up_left,
+                                        int16_t* out) {
+    S r, prediction = {};
+    codes.residuals<S, U, B>(r, first_code + g, std::min<int>(sizeof(S) / 2, lanes - g));
+    if (left && up) {
+        S a, b, c;
+        simd::load(a, left + g);
+        simd::load(b, up + g);
+        simd::load(c, up_left + g);
+        medPredictLanes<S, U>(prediction, a, b, c);
+    } else if (left) {
+        simd::load(prediction, left + g);
+    } else if (up) {
+        simd::load(prediction, up + g);
+    }
+    const S v = reinterpret_cast<S>(reinterpret_cast<U>(prediction) + reinterpret_cast<U>(r));
+    simd::store(out + g, v);
 }
 
-// One item's value from its prediction (neighbour rows may be null: the predictAt edge rules).
+// One item (stride a multiple of 8): 16 lanes at a time, then 8.
 FIRELOOK_ALWAYS_INLINE void decodeItem(const CodeStream& codes, size_t first_code, int lanes, int stride,
                                        const int16_t* left, const int16_t* up, const int16_t* up_left,
                                        int16_t* out) {
-    for (int g = 0; g * 8 < stride; ++g) {
-        v8s r, prediction = {};
-        codes.residuals(r, first_code + 8 * g, std::min(8, lanes - 8 * g));
-        if (left && up) {
-            v8s a, b, c;
-            simd::load(a, left + 8 * g);
-            simd::load(b, up + 8 * g);
-            simd::load(c, up_left + 8 * g);
-            medPredict8(prediction, a, b, c);
-        } else if (left) {
-            simd::load(prediction, left + 8 * g);
-        } else if (up) {
-            simd::load(prediction, up + 8 * g);
-        }
-        v8s v;
-        addWrapping(v, prediction, r);
-        simd::store(out + 8 * g, v);
-    }
+    int g = 0;
+    for (; g + 16 <= stride; g += 16)
+        decodeLanes<simd::v16s, simd::v16u, simd::v16b>(codes, first_code, lanes, g, left, up, up_left, out);
+    if (g < stride) decodeLanes<v8s, v8u, v8b>(codes, first_code, lanes, g, left, up, up_left, out);
 }
 
 // A w x h image of items with `lanes` planes each, stored `stride` (a multiple of 8, >= lanes)
@@ -612,9 +624,17 @@ size_t decodeImage(const CodeStream& codes, size_t first_code, int lanes, int st
 // of their pixel (what the encoder's plane held there).
 class RayDecoder {
   public:
-    RayDecoder(const RayLattice& lattice, const int16_t* mean, int stride, const std::vector<int32_t>& index_of,
+    // detailed: the detailed pixels, increasing (their rays are stored in this order).
+    RayDecoder(const RayLattice& lattice, const int16_t* mean, int stride, std::span<const int32_t> detailed,
                int16_t* rays)
-        : l_(lattice), mean_(mean), stride_(stride), index_of_(index_of), rays_(rays), samples_(lattice.samples()) {}
+        : l_(lattice), mean_(mean), stride_(stride), detailed_(detailed), rays_(rays), samples_(lattice.samples()) {}
+
+    // Index of pixel p among the detailed ones, or -1 (a search: only neighbours of detailed rays
+    // are looked up, so a per-pixel table would cost more than it saves).
+    int32_t indexOf(int p) const {
+        const auto it = std::lower_bound(detailed_.begin(), detailed_.end(), p);
+        return it != detailed_.end() && *it == p ? static_cast<int32_t>(it - detailed_.begin()) : -1;
+    }
 
     const int16_t* at(int x, int y) const {
         int p, s;
@@ -625,26 +645,29 @@ class RayDecoder {
             p = (y % l_.image_height) * l_.image_width + x;
             s = y / l_.image_height;
         }
-        const int32_t index = index_of_[static_cast<size_t>(p)];
+        const int32_t index = indexOf(p);
         return index < 0 ? mean_ + static_cast<size_t>(p) * stride_
                          : rays_ + (static_cast<size_t>(index) * samples_ + s) * stride_;
     }
     int16_t* ray(int32_t index, int s) const { return rays_ + (static_cast<size_t>(index) * samples_ + s) * stride_; }
 
-    // rows[py]: the detailed pixels of pixel row py, increasing.
-    size_t decode(const CodeStream& codes, size_t first_code, int lanes,
-                  const std::vector<std::vector<int32_t>>& rows) const {
+    size_t decode(const CodeStream& codes, size_t first_code, int lanes) const {
+        if (detailed_.empty()) return first_code;
         const int per_pixel = l_.n > 0 ? l_.n : 1;
         for (int y = 0; y < l_.height; ++y) {
             const int py = l_.n > 0 ? y / l_.n : y % l_.image_height;
-            for (const int32_t p : rows[static_cast<size_t>(py)]) {
+            // The detailed pixels of pixel row py: a contiguous run of the sorted list.
+            const auto row = std::lower_bound(detailed_.begin(), detailed_.end(), py * l_.image_width);
+            for (auto it = row; it != detailed_.end() && *it < (py + 1) * l_.image_width; ++it) {
+                const int32_t p = *it;
+                const int32_t index = static_cast<int32_t>(it - detailed_.begin());
                 const int px = p % l_.image_width;
                 for (int c = 0; c < per_pixel; ++c) {
                     const int x = px * per_pixel + c;
                     const int s = l_.n > 0 ? (y % l_.n) * l_.n + c : y / l_.image_height;
                     decodeItem(codes, first_code, lanes, stride_, x > 0 ? at(x - 1, y) : nullptr,
                                y > 0 ? at(x, y - 1) : nullptr, x > 0 && y > 0 ? at(x - 1, y - 1) : nullptr,
-                               ray(index_of_[static_cast<size_t>(p)], s));
+                               ray(index, s));
                     first_code += static_cast<size_t>(lanes);
                 }
             }
@@ -656,20 +679,50 @@ class RayDecoder {
     const RayLattice& l_;
     const int16_t* mean_;
     int stride_;
-    const std::vector<int32_t>& index_of_;
+    std::span<const int32_t> detailed_;
     int16_t* rays_;
     int samples_;
 };
 
-// Depth planes as stored (q(O_b), e_0, then e_(j-1) - e_j) to the resident form (q(O_b), e_j).
+// Depth planes as stored (q(O_b), e_0, then e_(j-1) - e_j) to the resident form (q(O_b), e_j):
+// e_j = d_0 - d_1 - ... - d_j, a prefix sum over lanes 1..thresholds of the differences with
+// their signs, 8 lanes at a time (three shift-and-add steps, then the previous block's carry).
+FIRELOOK_KERNEL_CLONES
 void accumulateThresholds(int16_t* items, size_t count, int stride, int thresholds) {
+    constexpr int kMaxBlocks = 8;  // strides up to 64 lanes vectorised (thresholds <= 63)
+    const int blocks = stride / 8;
+    if (blocks > kMaxBlocks) {
+        for (size_t i = 0; i < count; ++i) {
+            int16_t* v = items + i * stride;
+            int16_t e = v[1];
+            for (int j = 1; j < thresholds; ++j) v[1 + j] = e = static_cast<int16_t>(e - v[1 + j]);
+        }
+        return;
+    }
+    v8s sign[kMaxBlocks];  // +1 for d_0, -1 for d_j (j >= 1), 0 for q(O_b) and the padding
+    for (int b = 0; b < blocks; ++b)
+        for (int l = 0; l < 8; ++l) {
+            const int lane = 8 * b + l;
+            sign[b][l] = static_cast<int16_t>(lane == 1 ? 1 : lane >= 2 && lane <= thresholds ? -1 : 0);
+        }
+    const v8s zero = {};
     for (size_t i = 0; i < count; ++i) {
         int16_t* v = items + i * stride;
-        int16_t e = v[1];
-        for (int j = 1; j < thresholds; ++j) {
-            e = static_cast<int16_t>(e - v[1 + j]);
-            v[1 + j] = e;
+        const int16_t q = v[0];
+        int16_t carry = 0;
+        for (int b = 0; b < blocks; ++b) {
+            v8s x;
+            simd::load(x, v + 8 * b);
+            x *= sign[b];
+            x += __builtin_shufflevector(x, zero, 8, 0, 1, 2, 3, 4, 5, 6);
+            x += __builtin_shufflevector(x, zero, 8, 9, 0, 1, 2, 3, 4, 5);
+            x += __builtin_shufflevector(x, zero, 8, 9, 10, 11, 0, 1, 2, 3);
+            x += carry;
+            carry = x[7];
+            x = sign[b] != 0 ? x : zero;  // padding stays 0
+            simd::store(v + 8 * b, x);
         }
+        v[0] = q;
     }
 }
 
@@ -750,16 +803,11 @@ void decodeResidentFrame(const BakeDescription& description, int frame, int rank
         const RayLattice lattice = RayLattice::of(description);
         const int planes = static_cast<int>(1 + thresholds);
         f.depth_stride = roundUp8(planes);
-        // Which pixels are detailed: their index among the detailed ones (-1: mean ray only).
-        std::vector<int32_t> index_of(pixels, -1);
-        std::vector<std::vector<int32_t>> rows(static_cast<size_t>(h));
+        // Which pixels are detailed (keep every ray), in increasing order.
         const auto* flags = reinterpret_cast<const uint8_t*>(in.need(pixels));
         for (size_t p = 0; p < pixels; ++p) {
             if (flags[p] > 1) in.fail("has an invalid pixel flag");
-            if (!flags[p]) continue;
-            index_of[p] = static_cast<int32_t>(f.detailed_pixels.size());
-            f.detailed_pixels.push_back(static_cast<int32_t>(p));
-            rows[p / static_cast<size_t>(w)].push_back(static_cast<int32_t>(p));
+            if (flags[p]) f.detailed_pixels.push_back(static_cast<int32_t>(p));
         }
         const size_t detailed_rays = f.detailed_pixels.size() * static_cast<size_t>(f.samples);
         std::optional<ReorderedCodes> reordered;
@@ -775,8 +823,8 @@ void decodeResidentFrame(const BakeDescription& description, int frame, int rank
         f.mean_depth.resize(pixels * f.depth_stride);  // every value is written below
         f.detailed_depth.resize(detailed_rays * f.depth_stride);
         const size_t next = decodeImage(codes, 0, planes, f.depth_stride, w, h, f.mean_depth.data());
-        RayDecoder(lattice, f.mean_depth.data(), f.depth_stride, index_of, f.detailed_depth.data())
-            .decode(codes, next, planes, rows);
+        RayDecoder(lattice, f.mean_depth.data(), f.depth_stride, f.detailed_pixels, f.detailed_depth.data())
+            .decode(codes, next, planes);
         accumulateThresholds(f.mean_depth.data(), pixels, f.depth_stride, static_cast<int>(thresholds));
         accumulateThresholds(f.detailed_depth.data(), detailed_rays, f.depth_stride, static_cast<int>(thresholds));
     }

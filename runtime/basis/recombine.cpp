@@ -7,6 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "basis/coefficients.h"
 #include "basis/simd.h"
 
 namespace firelook::basis {
@@ -49,23 +50,8 @@ void coefficientsOf(const BakeDescription& description, std::span<const float> s
     if (svt.size() < static_cast<size_t>(description.columnCount()) * std::max(rank, 0))
         throw std::invalid_argument("S V^T too short for the description");
 
-    std::fill(z_out.begin(), z_out.begin() + rank * 3, 0.0f);
-    const GridWeights grid = interpolationWeights(description.axes, look.extinction);
-    const int per_point = description.columnsPerPoint();
-    for (int g = 0; g < grid.count; ++g) {
-        const int first_column = grid.point[g] * per_point;
-        for (int c = 0; c < per_point; ++c) {
-            const Rgb weight =
-                grid.weight[g] * (c < bins ? look.rbf_coefficients[c] : look.light_irradiance[c - bins]);
-            if (weight.r == 0.0f && weight.g == 0.0f && weight.b == 0.0f) continue;
-            const float* column = svt.data() + static_cast<size_t>(first_column + c) * rank;
-            for (int k = 0; k < rank; ++k) {
-                z_out[k * 3 + 0] += column[k] * weight.r;
-                z_out[k * 3 + 1] += column[k] * weight.g;
-                z_out[k * 3 + 2] += column[k] * weight.b;
-            }
-        }
-    }
+    coefficientKernel(description, svt.data(), rank, look.extinction, look.rbf_coefficients.data(),
+                      look.light_irradiance.data(), z_out.data());
 }
 
 }  // namespace

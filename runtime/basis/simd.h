@@ -24,6 +24,9 @@ typedef int32_t v8i __attribute__((vector_size(32)));
 typedef int16_t v8s __attribute__((vector_size(16)));   // 8 int16 lanes (one SSE register)
 typedef uint16_t v8u __attribute__((vector_size(16)));
 typedef uint8_t v8b __attribute__((vector_size(8)));
+typedef int16_t v16s __attribute__((vector_size(32)));  // 16 int16 lanes (one AVX2 register)
+typedef uint16_t v16u __attribute__((vector_size(32)));
+typedef uint8_t v16b __attribute__((vector_size(16)));
 
 // Unaligned loads and stores (memcpy compiles to one move).
 template <typename V, typename T>

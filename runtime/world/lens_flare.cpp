@@ -429,7 +429,7 @@ FIRELOOK_ALWAYS_INLINE void upsample(const Layout& l, int width, int height, flo
 }
 
 // The whole flare for normalised settings. Two builds, picked once at load time by the CPU (as in
-// coefficient_kernel.cpp): AVX2 + FMA where available, the baseline elsewhere.
+// basis/coefficients.cpp): AVX2 + FMA where available, the baseline elsewhere.
 FIRELOOK_KERNEL_CLONES
 void flareKernel(const float* rgba_in, int width, int height, const LensFlareSettings& s, float* scratch,
                  float* flare_out) {

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "basis/coefficients.h"
 #include "basis/recombine.h"
-#include "world/coefficient_kernel.h"
 
 namespace firelook::runtime {
 namespace {
@@ -25,7 +25,6 @@ World::World(WorldSettings settings)
       rbf_(HostAllocator<Rgb>(&settings_.memory)),
       lights_(HostAllocator<Rgb>(&settings_.memory)),
       z_(HostAllocator<float>(&settings_.memory)),
-      scratch_(HostAllocator<float>(&settings_.memory)),
       flare_scratch_(HostAllocator<float>(&settings_.memory)) {
     if ((settings_.memory.alloc == nullptr) != (settings_.memory.free == nullptr))
         throw std::invalid_argument("memory hooks: set both alloc and free, or neither");
@@ -95,7 +94,6 @@ void World::ensureStrides(const Package& p) {
         relayout(z_, z_stride_, z);
         z_stride_ = z;
     }
-    if (scratch_.size() < static_cast<size_t>(z)) scratch_.resize(z);
 }
 
 InstanceHandle World::create(std::shared_ptr<const Package> package) {
@@ -291,9 +289,9 @@ void World::update(double dt) {
     for (size_t i = 0; i < n; ++i) {
         const int pkg = package_index_[i];
         const FrameEntry& e = residentFrame(pkg, frame_slot_[i]);
-        computeCoefficientsFast(packages_[pkg].package->description(), e.frame->svt.data(), e.frame->rank, extinction_[i],
-                                rbf_.data() + i * bins_stride_, lights_.data() + i * lights_stride_, scratch_.data(),
-                                z_.data() + i * z_stride_);
+        basis::coefficientKernel(packages_[pkg].package->description(), e.frame->svt.data(), e.frame->rank,
+                                 extinction_[i], rbf_.data() + i * bins_stride_, lights_.data() + i * lights_stride_,
+                                 z_.data() + i * z_stride_);
     }
 
     // 5. CPU images.
@@ -316,11 +314,43 @@ void World::update(double dt) {
 
     std::fill(updated_.begin(), updated_.end(), uint8_t{1});
     trimCache();
+    if (prefetch()) trimCache();  // the estimate may fall short: the budget still holds
+}
+
+// Decoding ahead: the first playing instance whose next frame (in its direction of play, wrapping
+// when it loops) is not resident gets it decoded now, if the cache has room for it beside what it
+// holds (an estimate: the size of the frame shown). One frame per update bounds the work; the
+// frame counts as used one update ago, so a trim may evict it before the frames in use.
+bool World::prefetch() {
+    for (size_t i = 0; i < dense_to_handle_.size(); ++i) {
+        const PlaybackSettings& pb = playback_[i];
+        if (!pb.playing || pb.rate == 0.0) continue;
+        const int pkg = package_index_[i];
+        PackageEntry& pe = packages_[pkg];
+        const Package& p = *pe.package;
+        const auto [first, last] = frameRange(p, pb);
+        const int lo = p.slotAtOrBelow(first), hi = p.slotAtOrBelow(last);
+        int next = frame_slot_[i] + (pb.rate > 0.0 ? 1 : -1);
+        if (next > hi) next = pb.loop ? lo : hi;
+        if (next < lo) next = pb.loop ? hi : lo;
+        FrameEntry& shown = pe.frames[frame_slot_[i]];
+        if (pe.frames[next].frame || !shown.frame) continue;
+        if (cacheBytes() + shown.bytes > settings_.frame_cache_bytes) continue;
+        try {
+            residentFrame(pkg, next).last_used = update_count_ - 1;
+        } catch (const std::exception&) {
+            // A frame that cannot be read fails when it is shown, with the error the caller sees.
+            continue;
+        }
+        ++prefetches_;
+        return true;
+    }
+    return false;
 }
 
 size_t World::instanceBytes() const {
     size_t bytes = (rbf_.capacity() + lights_.capacity()) * sizeof(Rgb) +
-                   (z_.capacity() + scratch_.capacity() + flare_scratch_.capacity()) * sizeof(float);
+                   (z_.capacity() + flare_scratch_.capacity()) * sizeof(float);
     for (const HostVector<float>& image : image_) bytes += image.capacity() * sizeof(float);
     for (const HostVector<float>& flare : flare_) bytes += flare.capacity() * sizeof(float);
     return bytes;

@@ -10,7 +10,8 @@
 //   4. coefficients z = S V^T w per instance (rank x 3)
 //   5. image        optional CPU image = U z, alpha from the optical depths
 //   6. lens flare   optional, from the instance's image (lens_flare.h)
-// then the frame cache is trimmed to its budget.
+// then the frame cache is trimmed to its budget, and the next frame of one
+// playing instance is decoded ahead of time when the budget has room.
 //
 // Frames: an instance shows baked frames only. The continuous frame position
 // (used for the keyframed look, which animates smoothly) selects the last baked
@@ -134,7 +135,8 @@ class World {
     // images, coefficients and looks, and the scratch buffers.
     size_t instanceBytes() const;
     size_t cachedFrames() const;
-    uint64_t frameLoads() const { return frame_loads_; }
+    uint64_t frameLoads() const { return frame_loads_; }  // every frame decoded, prefetches included
+    uint64_t prefetches() const { return prefetches_; }
 
   private:
     template <typename T>
@@ -159,6 +161,7 @@ class World {
     void ensureStrides(const Package& package);
     FrameEntry& residentFrame(int package_index, int slot);
     void trimCache();
+    bool prefetch();  // true when it decoded a frame
 
     WorldSettings settings_;
     HostMemoryResource frame_memory_{&settings_.memory};
@@ -181,7 +184,6 @@ class World {
     HostVector<float> z_;     // dense x z_stride_
     std::vector<HostVector<float>> image_;  // empty unless enabled
     std::vector<HostVector<float>> flare_;
-    HostVector<float> scratch_;        // 3 x max rank
     HostVector<float> flare_scratch_;  // lens flare scratch, largest image
 
     basis::FrameReadBuffers read_buffers_;        // section reads, reused
@@ -189,6 +191,7 @@ class World {
     uint64_t update_count_ = 0;
     size_t cache_bytes_ = 0;
     uint64_t frame_loads_ = 0;
+    uint64_t prefetches_ = 0;
 };
 
 }  // namespace firelook::runtime

@@ -8,13 +8,7 @@
 set -euo pipefail
 csv="$1"; out="$2"
 mkdir -p "$out"
-# Columns of sweep.csv, found by their names in its header (`firelook bench --csv` owns the order).
-column() {
-  local n
-  n=$(head -n 1 "$csv" | tr ',' '\n' | grep -nx "$1" | cut -d: -f1)
-  [[ -n "$n" ]] || { echo "plot_speed_vs_error.sh: $csv has no column '$1'" >&2; exit 2; }
-  echo "$n"
-}
+source "$(dirname "${BASH_SOURCE[0]}")/csv_column.sh"
 col_rmse=$(column median_noise_corrected_rmse); col_worst=$(column worst_noise_corrected_rmse)
 col_raw=$(column median_relative_rmse); col_alpha=$(column max_alpha_error)
 declare -A cost_col=([runtime]=$(column median_image_ms) [package]=$(column package_bytes) [bake]=$(column bake_seconds))

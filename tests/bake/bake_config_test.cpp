@@ -108,6 +108,19 @@ TEST(BakeConfig, AxisForms) {
     EXPECT_EQ(c.axes.flame_extinction, (std::vector<double>{0.25, 1.0, 4.0}));
 }
 
+// "axes": {"collapse_unused": false} keeps every sample (docs/bake-config.md); recorded, so it bakes again.
+TEST(BakeConfig, CollapseUnusedAxesKey) {
+    TempDir dir;
+    EXPECT_TRUE(BakeConfig().collapse_unused_axes) << "on by default";
+    BakeConfig c = apply(dir, R"({"axes": {"collapse_unused": false, "smoke_extinction": 3}})");
+    EXPECT_FALSE(c.collapse_unused_axes);
+    EXPECT_EQ(c.axes.smoke_extinction, (std::vector<double>{3.0}));
+    const nlohmann::json j = nlohmann::json::parse(configToJson(c));
+    EXPECT_EQ(j.at("axes").at("collapse_unused"), false);
+    EXPECT_TRUE(apply(dir, R"({"axes": {"collapse_unused": true}})").collapse_unused_axes);
+    EXPECT_THROW(apply(dir, R"({"axes": {"collapse_unused": "no"}})"), std::runtime_error);
+}
+
 TEST(BakeConfig, ErrorsNameTheFileAndTheProblem) {
     TempDir dir;
     const std::string file = (dir / "bake.json").string();

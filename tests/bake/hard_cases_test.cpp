@@ -33,12 +33,7 @@ bool allZero(const std::vector<float>& v) {
 
 basis::BakeDescription describe(const BasisModel& m, const FrameBasis& b) {
     basis::BakeDescription d;
-    d.bins = m.bins;
-    d.rbf_width = m.rbf_width;
-    d.albedo = m.albedo;
-    d.axes = m.axes;
-    d.alpha_thresholds = m.alpha_thresholds;
-    d.light_directions = m.light_directions;
+    static_cast<BasisModel&>(d) = m;
     d.footprint_samples = b.footprint_samples;
     d.width = b.width;
     d.height = b.height;

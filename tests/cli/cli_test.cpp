@@ -311,3 +311,38 @@ TEST(Cli, BakeReportAndBenchCsvWithReferenceCache) {
 }
 
 }  // namespace
+
+// An axis that cannot change any frame: the bake says so in one line, records it in the report and
+// the package, info shows it; --keep-axes bakes every sample without a word.
+TEST(Cli, BakeCollapsesAnAxisThatCannotChangeAFrame) {
+    TempDir dir;
+    // The sample's temperatures scaled below 0.58 against T_c samples 1 and 2 (16 bins of 0.036).
+    std::ofstream(dir / "bake.json") << R"({"bins": 16, "t_lo": 0, "t_hi": 0.58, "temperature_scale": 0.1933,
+        "axes": {"temperature_threshold": [1.0, 2.0], "smoke_extinction": 4, "flame_extinction": 1.5},
+        "trace": {"photons_primary": 2000, "photons_per_order": 1000, "max_orders": 3, "cell_voxels": 8}})";
+    const std::string bake = "bake '" + kSample + "' --frames 1 --size 16x16 --up z --config bake.json";
+    CommandResult r = runFirelook(dir, bake + " -o pkg.firelook --report r.json");
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    int said = 0;
+    for (const std::string& line : lines(r.err))
+        if (line.find("temperature_threshold axis collapsed to its lowest sample 1 (of 2, 1..2)") != std::string::npos)
+            ++said;
+    EXPECT_EQ(said, 1) << r.err;
+    const json report = json::parse(readFile(dir / "r.json"));
+    ASSERT_EQ(report.at("axis_collapse").at("collapsed").size(), 1u);
+    EXPECT_EQ(report.at("axis_collapse").at("collapsed")[0].at("axis"), "temperature_threshold");
+    EXPECT_LE(report.at("axis_collapse").at("temperature_with_density")[1].get<double>(), 0.58);
+    EXPECT_EQ(report.at("frames")[0].at("columns_traced"), 17);
+    r = runFirelook(dir, "info pkg.firelook");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("temperature_threshold  [1.0]  (collapsed from 2 samples 1..2"), std::string::npos) << r.out;
+    r = runFirelook(dir, "render pkg.firelook --frame 1 --out a.exr");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+
+    r = runFirelook(dir, bake + " --keep-axes -o full.firelook --report full.json");
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_EQ(r.err.find("collapsed"), std::string::npos) << r.err;
+    const json full = json::parse(readFile(dir / "full.json"));
+    EXPECT_TRUE(full.at("axis_collapse").is_null());
+    EXPECT_EQ(full.at("frames")[0].at("columns_traced"), 2 * 17);
+}

@@ -361,6 +361,14 @@ TEST_F(PluginApiWorld, ImageEqualsRenderLookImageAndGpuDataReproducesIt) {
     // The world's buffers came from the host allocator, the image (3072 bytes) among them.
     EXPECT_GE(g_allocs - allocs_before_world_, 2);
     EXPECT_GE(largestAllocationSince(sizes_before_world_), 16u * 12u * 4u * sizeof(float));
+    // What the world reports holding: one resident frame (more than its W codes, 16x12 x 8 int16)
+    // and at least the instance's image.
+    uint64_t cache_bytes = 0, instance_bytes = 0;
+    ASSERT_EQ(fl_world_memory(world_, &cache_bytes, &instance_bytes), FL_OK);
+    EXPECT_GT(cache_bytes, 16u * 12u * 8u * sizeof(int16_t));
+    EXPECT_GE(instance_bytes, 16u * 12u * 4u * sizeof(float));
+    EXPECT_EQ(fl_world_memory(world_, nullptr, nullptr), FL_OK);
+    EXPECT_EQ(fl_world_memory(fl_world{}, &cache_bytes, nullptr), FL_ERROR_INVALID_HANDLE);
     EXPECT_EQ(fl_instance_get_image(world_, inst, image.data(), image.size() - 1), FL_ERROR_BUFFER_TOO_SMALL);
     ASSERT_EQ(fl_instance_get_image(world_, inst, image.data(), image.size()), FL_OK);
     fl_package_info info = fl_package_info_defaults();

@@ -275,8 +275,10 @@ TEST(World, InstancesShareOneCachedCopyPerFrameAndTheCacheIsBounded) {
     std::vector<InstanceHandle> hs;
     for (int i = 0; i < 50; ++i) hs.push_back(world.create(package));
     world.update(0.0);
-    EXPECT_EQ(world.frameLoads(), 1u);  // every instance on frame 1
-    EXPECT_EQ(world.cachedFrames(), 1u);
+    // Every instance on frame 1, one copy; frame 2 decoded ahead (they play forwards).
+    EXPECT_EQ(world.frameLoads(), 2u);
+    EXPECT_EQ(world.prefetches(), 1u);
+    EXPECT_EQ(world.cachedFrames(), 2u);
     for (int i = 0; i < 50; ++i) world.setPlayback(hs[i], pausedAt(i % 3));  // frames 1..3
     world.update(0.0);
     EXPECT_EQ(world.frameLoads(), 3u);
@@ -293,6 +295,101 @@ TEST(World, InstancesShareOneCachedCopyPerFrameAndTheCacheIsBounded) {
         small.update(1.0);
         EXPECT_EQ(small.cachedFrames(), 1u);
     }
+}
+
+// Streaming through more frames than the budget holds: each evicted frame's buffers serve the
+// next load (one spare, counted in cacheBytes and kept only within the budget), and the images
+// drawn from reused buffers equal those of freshly decoded frames.
+TEST(World, StreamingReusesAnEvictedFramesBuffersWithinTheBudget) {
+    TempDir dir;
+    SyntheticShape shape;
+    shape.frames = {1, 2, 3, 4, 5, 6};
+    auto package = makePackage(dir, shape);
+    const auto& d = package->description();
+    const size_t frame_bytes = package->basis().loadResidentFrame(1, std::pmr::get_default_resource()).bytes();
+    WorldSettings settings;
+    settings.frame_cache_bytes = 3 * frame_bytes + frame_bytes / 2;  // about three of the six frames
+    World world(settings);
+    const InstanceHandle h = world.create(package);
+    world.setLook(h, lookA());
+    world.setOutputs(h, {true, false, {}});
+    PlaybackSettings pb;
+    pb.rate = 1.0;
+    world.setPlayback(h, pb);
+    std::vector<float> want(static_cast<size_t>(d.pixelCount()) * 4);
+    for (int step = 0; step < 14; ++step) {
+        world.update(step == 0 ? 0.0 : 1.0);
+        const InstanceState s = world.state(h);
+        EXPECT_LE(world.cacheBytes(), settings.frame_cache_bytes) << step;
+        const basis::ResidentFrame fresh = package->basis().loadResidentFrame(s.frame, std::pmr::get_default_resource());
+        basis::renderLookImage(d, fresh, lookA(), want);
+        // Alpha bit for bit; rgb as in ImageEqualsRenderLookImage (z's summation order differs).
+        double peak = 0.0;
+        for (size_t i = 0; i < want.size(); ++i)
+            if (i % 4 != 3) peak = std::max(peak, static_cast<double>(want[i]));
+        for (size_t i = 0; i < want.size(); ++i) {
+            if (i % 4 == 3)
+                ASSERT_EQ(s.image[i], want[i]) << "step " << step << " alpha at " << i;
+            else
+                ASSERT_NEAR(s.image[i], want[i], 1e-5 * peak + 1e-5 * std::abs(want[i])) << "step " << step << " at " << i;
+        }
+    }
+    EXPECT_EQ(world.frameLoads(), 14u);  // a new frame each step once the cache has turned over
+}
+
+// The next frame in the direction of play is decoded one update ahead, so showing it decodes
+// nothing; at the end of a looping range the next frame is the first; paused instances and a full
+// cache prefetch nothing.
+TEST(World, TheNextFrameIsDecodedAhead) {
+    TempDir dir;
+    SyntheticShape shape;
+    shape.frames = {1, 2, 3, 4};
+    auto package = makePackage(dir, shape);
+    World world;
+    const InstanceHandle h = world.create(package);
+    PlaybackSettings pb;
+    pb.rate = 1.0;
+    world.setPlayback(h, pb);
+    world.update(0.0);
+    EXPECT_EQ(world.state(h).frame, 1);
+    EXPECT_EQ(world.frameLoads(), 2u);  // frame 1 shown, frame 2 ahead
+    for (int step = 1; step < 3; ++step) {
+        world.update(1.0);
+        EXPECT_EQ(world.state(h).frame, 1 + step);
+        EXPECT_EQ(world.frameLoads(), static_cast<uint64_t>(2 + step));  // only the one ahead
+        EXPECT_EQ(world.prefetches(), static_cast<uint64_t>(1 + step)) << step;
+    }
+    world.update(1.0);
+    EXPECT_EQ(world.state(h).frame, 4);
+    EXPECT_EQ(world.frameLoads(), 4u);  // frame 1, next after the wrap, is still cached
+    EXPECT_EQ(world.cachedFrames(), 4u);
+    // Backwards: the frame below.
+    World backwards;
+    const InstanceHandle b = backwards.create(package);
+    pb.rate = -1.0;
+    pb.time = 0.0;
+    backwards.setPlayback(b, pb);
+    backwards.update(0.0);
+    EXPECT_EQ(backwards.state(b).frame, 1);
+    EXPECT_EQ(backwards.cachedFrames(), 2u);
+    backwards.update(1.0);
+    EXPECT_EQ(backwards.state(b).frame, 4);  // wrapped below frame 1
+    EXPECT_EQ(backwards.frameLoads(), 3u);   // 4 was ahead; now 3 is
+    // Paused, or no room: nothing ahead.
+    World paused;
+    const InstanceHandle q = paused.create(package);
+    paused.setPlayback(q, pausedAt(0.0));
+    paused.update(0.0);
+    EXPECT_EQ(paused.prefetches(), 0u);
+    WorldSettings tight;
+    tight.frame_cache_bytes = 1;
+    World full(tight);
+    const InstanceHandle f = full.create(package);
+    pb.rate = 1.0;
+    full.setPlayback(f, pb);
+    full.update(0.0);
+    EXPECT_EQ(full.prefetches(), 0u);
+    EXPECT_EQ(full.cachedFrames(), 1u);
 }
 
 TEST(World, StaleAndInvalidHandlesAreDetected) {

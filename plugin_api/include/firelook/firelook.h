@@ -277,8 +277,10 @@ FIRELOOK_API fl_result fl_look_to_json(fl_look look, char* buffer, size_t capaci
 typedef struct fl_world_desc {
     uint32_t struct_size;
     uint32_t reserved;
-    /* Bound on the frame cache (decompressed factors, decoded U): least recently used frames not used by
-       the current update are evicted after each update. 0 = 512 MiB. */
+    /* Bound on the frame cache (the frames in their resident form, their depth tables and one evicted
+       frame's buffers kept for the next load): least recently used frames not used by the current update
+       are evicted after each update; frames in use are never evicted. 0 = 512 MiB.
+       fl_world_memory reports what the world holds. */
     uint64_t frame_cache_bytes;
 } fl_world_desc;
 
@@ -357,6 +359,10 @@ FIRELOOK_API fl_result fl_world_destroy(fl_world world);
 /* Runs playback -> keyframes -> coefficients -> images -> lens flare for every instance. dt in seconds. */
 FIRELOOK_API fl_result fl_world_update(fl_world world, double dt);
 FIRELOOK_API fl_result fl_world_instance_count(fl_world world, uint32_t* out_count);
+/* What the world holds, in bytes, as of the last call that changed it: *frame_cache_bytes the frame cache
+   (see fl_world_desc.frame_cache_bytes), *instance_bytes the per-instance images, flare images,
+   coefficients and looks and the scratch buffers. Either pointer may be null. */
+FIRELOOK_API fl_result fl_world_memory(fl_world world, uint64_t* frame_cache_bytes, uint64_t* instance_bytes);
 
 FIRELOOK_API fl_result fl_instance_create(fl_world world, const fl_instance_desc* desc, fl_instance* out_instance);
 FIRELOOK_API fl_result fl_instance_destroy(fl_world world, fl_instance instance);
