@@ -138,14 +138,19 @@ BasisPackage BasisPackage::fromReader(package::PackageReader reader) {
     return BasisPackage(std::move(reader), std::move(description), *metadata, layout);
 }
 
-FrameFactors BasisPackage::loadFrame(int frame) const {
+const FrameRecord& BasisPackage::record(int frame) const {
     const FrameRecord* record = description_.findFrame(frame);
     if (!record) throw std::runtime_error(file().string() + ": no frame " + std::to_string(frame) + " in the package");
-    if (layout_version_ == 1) return loadLayout1(reader_, description_, frame, record->rank);
+    return *record;
+}
+
+FrameFactors BasisPackage::loadFrame(int frame) const {
+    const int rank = record(frame).rank;
+    if (layout_version_ == 1) return loadLayout1(reader_, description_, frame, rank);
     const std::vector<std::byte> u = readSection(reader_, kSectionU, frame);
     const std::vector<std::byte> svt = readSection(reader_, kSectionSVt, frame);
     const std::vector<std::byte> depths = readSection(reader_, kSectionDepths, frame);
-    return decodeFrame(description_, frame, record->rank, u, svt, depths, file().string());
+    return decodeFrame(description_, frame, rank, u, svt, depths, file().string());
 }
 
 ResidentFrame BasisPackage::loadResidentFrame(int frame, std::pmr::memory_resource* memory,
@@ -158,12 +163,11 @@ ResidentFrame BasisPackage::loadResidentFrame(int frame, std::pmr::memory_resour
 }
 
 void BasisPackage::loadResidentFrame(int frame, ResidentFrame& out, FrameReadBuffers& buffers) const {
-    const FrameRecord* record = description_.findFrame(frame);
-    if (!record) throw std::runtime_error(file().string() + ": no frame " + std::to_string(frame) + " in the package");
+    const int rank = record(frame).rank;
     if (layout_version_ == 1) {
         const EncodedFrame e =
-            encodeFrame(description_, loadLayout1(reader_, description_, frame, record->rank), kLayout1Settings);
-        decodeResidentFrame(description_, frame, record->rank, e.u, e.svt, e.depths, file().string(), out);
+            encodeFrame(description_, loadLayout1(reader_, description_, frame, rank), kLayout1Settings);
+        decodeResidentFrame(description_, frame, rank, e.u, e.svt, e.depths, file().string(), out);
         return;
     }
     auto section = [&](uint32_t type, package::SectionBuffer& buffer) {
@@ -172,7 +176,7 @@ void BasisPackage::loadResidentFrame(int frame, ResidentFrame& out, FrameReadBuf
     const std::span<const std::byte> u = section(kSectionU, buffers.u);
     const std::span<const std::byte> svt = section(kSectionSVt, buffers.svt);
     const std::span<const std::byte> depths = section(kSectionDepths, buffers.depths);
-    decodeResidentFrame(description_, frame, record->rank, u, svt, depths, file().string(), out);
+    decodeResidentFrame(description_, frame, rank, u, svt, depths, file().string(), out);
 }
 
 }  // namespace firelook::basis

@@ -74,6 +74,7 @@ public:
     void loadResidentFrame(int frame, ResidentFrame& out, FrameReadBuffers& buffers) const;
 
 private:
+    const FrameRecord& record(int frame) const;  // throws naming the file when there is no such frame
     // What open() and openMemory() share: the reader's options and the META checks.
     static package::ReaderOptions readerOptions();
     static BasisPackage fromReader(package::PackageReader reader);

@@ -98,21 +98,40 @@ struct AlphaPlan {
     float w_lower = 0.0f, w_upper = 0.0f, w_density = 0.0f;
 };
 
+// The threshold layers bracketing T_c and the weights of tau2 = (a (1 - t) O_a(lower) +
+// a t O_a(upper) + b O_b) / ln 2, for both forms of a frame; `two` is false when T_c is on or
+// outside the samples (O_a = the lower layer alone).
+struct AlphaWeights {
+    ThresholdLerp lerp;
+    bool two = false;
+    float w_lower = 0.0f, w_upper = 0.0f, w_density = 0.0f;
+};
+
+AlphaWeights alphaWeights(const BakeDescription& description, const ExtinctionParams& extinction) {
+    AlphaWeights w;
+    w.lerp = thresholdLerp(description.alpha_thresholds, extinction.temperature_threshold);
+    w.two = w.lerp.upper != w.lerp.lower && w.lerp.t != 0.0f;
+    const double log2e = 1.4426950408889634;
+    w.w_lower = static_cast<float>(extinction.a() * (w.two ? 1.0 - w.lerp.t : 1.0) * log2e);
+    w.w_upper = static_cast<float>(extinction.a() * (w.two ? w.lerp.t : 0.0) * log2e);
+    w.w_density = static_cast<float>(extinction.b() * log2e);
+    return w;
+}
+
 AlphaPlan alphaPlan(const BakeDescription& description, const FrameFactors& factors,
                     const ExtinctionParams& extinction) {
-    const ThresholdLerp lerp = thresholdLerp(description.alpha_thresholds, extinction.temperature_threshold);
+    const AlphaWeights w = alphaWeights(description, extinction);
+    const ThresholdLerp& lerp = w.lerp;
     AlphaPlan plan;
     plan.pixels = static_cast<size_t>(factors.pixels);
     plan.ray_stride = description.alpha_thresholds.size() * plan.pixels;
     plan.samples = description.footprint_samples;
     plan.density = factors.depth_density.data();
     plan.lower = factors.depth_sigmoid.data() + static_cast<size_t>(lerp.lower) * plan.pixels;
-    const bool two = lerp.upper != lerp.lower && lerp.t != 0.0f;
-    plan.upper = two ? factors.depth_sigmoid.data() + static_cast<size_t>(lerp.upper) * plan.pixels : nullptr;
-    const double log2e = 1.4426950408889634;
-    plan.w_lower = static_cast<float>(extinction.a() * (two ? 1.0 - lerp.t : 1.0) * log2e);
-    plan.w_upper = static_cast<float>(extinction.a() * (two ? lerp.t : 0.0) * log2e);
-    plan.w_density = static_cast<float>(extinction.b() * log2e);
+    plan.upper = w.two ? factors.depth_sigmoid.data() + static_cast<size_t>(lerp.upper) * plan.pixels : nullptr;
+    plan.w_lower = w.w_lower;
+    plan.w_upper = w.w_upper;
+    plan.w_density = w.w_density;
     return plan;
 }
 
@@ -378,7 +397,7 @@ void reconstructImage(const BakeDescription& description, const FrameFactors& fa
 namespace {
 
 // What alpha needs from a resident frame: the depth codes of the one or two threshold layers that
-// bracket T_c, and the weights of tau2 as in AlphaPlan.
+// bracket T_c, and the weights of tau2 (alphaWeights).
 struct ResidentAlphaPlan {
     const float* depth = nullptr;  // DepthTable::depth
     int last = 0;                  // its last code
@@ -389,17 +408,16 @@ struct ResidentAlphaPlan {
 
 ResidentAlphaPlan residentAlphaPlan(const BakeDescription& description, const ResidentFrame& f,
                                     const ExtinctionParams& extinction) {
-    const ThresholdLerp lerp = thresholdLerp(description.alpha_thresholds, extinction.temperature_threshold);
+    const AlphaWeights w = alphaWeights(description, extinction);
     ResidentAlphaPlan plan;
     plan.depth = f.depth_table->depth.data();
     plan.last = static_cast<int>(f.depth_table->depth.size()) - 1;
-    plan.lower = 1 + lerp.lower;
-    plan.upper = 1 + lerp.upper;
-    plan.two = lerp.upper != lerp.lower && lerp.t != 0.0f;
-    const double log2e = 1.4426950408889634;
-    plan.w_lower = static_cast<float>(extinction.a() * (plan.two ? 1.0 - lerp.t : 1.0) * log2e);
-    plan.w_upper = static_cast<float>(extinction.a() * (plan.two ? lerp.t : 0.0) * log2e);
-    plan.w_density = static_cast<float>(extinction.b() * log2e);
+    plan.lower = 1 + w.lerp.lower;
+    plan.upper = 1 + w.lerp.upper;
+    plan.two = w.two;
+    plan.w_lower = w.w_lower;
+    plan.w_upper = w.w_upper;
+    plan.w_density = w.w_density;
     return plan;
 }
 

@@ -9,7 +9,8 @@
 //           `rank_stride` (a multiple of 8); U[p][k] = w[p * rank_stride + k] * u_scale[k].
 //   S V^T:  float, as FrameFactors::svt (columns x rank, column-major).
 //   Depths: codes on the companding grid (DepthTable turns a code into an optical depth). Every
-//           pixel has its mean ray, `depth_stride` = 1 + thresholds int16: q(O_b), then
+//           pixel has its mean ray, 1 + thresholds int16 (zero-padded to `depth_stride`, a
+//           multiple of 8): q(O_b), then
 //           e_j = q(O_b) - q(S_j) per alpha threshold, with S_j = (O_b - O_a(T_c,j)) / 2 the smoke
 //           part; so O_b = D[q], O_a(j) = D[q] - 2 D[q - e_j]. Pixels whose footprint rays differ
 //           ("detailed", sorted) also keep every ray: footprint_samples rows of depth_stride each.
@@ -31,6 +32,7 @@ struct DepthTable {
     double step = 0.0, k_lo = 0.0, k_hi = 0.0;  // the grid (frame payloads carry these)
     std::vector<float> depth;                   // D[q], q in [0, levels]
     bool sameGrid(double s, double lo, double hi) const { return step == s && k_lo == lo && k_hi == hi; }
+    size_t bytes() const { return depth.capacity() * sizeof(float); }
     static std::shared_ptr<const DepthTable> build(double step, double k_lo, double k_hi);
 };
 
@@ -44,7 +46,7 @@ struct ResidentFrame {
     int columns = 0;
     int rank = 0;
     int rank_stride = 0;   // rank rounded up to a multiple of 8
-    int depth_stride = 0;  // 1 + alpha thresholds
+    int depth_stride = 0;  // 1 + alpha thresholds, rounded up to a multiple of 8
     int samples = 1;       // footprint rays of a detailed pixel
 
     std::pmr::vector<int16_t> w;            // pixels x rank_stride

@@ -63,7 +63,7 @@ void World::releasePackage(int index) {
     PackageEntry& e = packages_[index];
     if (--e.users > 0) return;
     for (FrameEntry& f : e.frames) cache_bytes_ -= f.bytes;
-    if (e.depth_table) cache_bytes_ -= e.depth_table->depth.size() * sizeof(float);
+    if (e.depth_table) cache_bytes_ -= e.depth_table->bytes();
     e.frames.clear();
     e.depth_table.reset();
     e.package.reset();
@@ -215,9 +215,9 @@ World::FrameEntry& World::residentFrame(int package_index, int slot) {
         f->depth_table = pe.depth_table;  // reused when the frame's grid is the same
         pe.package->loadResidentSlot(slot, *f, read_buffers_);  // on a throw the buffers are freed
         if (f->depth_table != pe.depth_table) {  // a new depth grid (the first frame, or a repacked one)
-            if (pe.depth_table) cache_bytes_ -= pe.depth_table->depth.size() * sizeof(float);
+            if (pe.depth_table) cache_bytes_ -= pe.depth_table->bytes();
             pe.depth_table = f->depth_table;
-            cache_bytes_ += pe.depth_table->depth.size() * sizeof(float);
+            cache_bytes_ += pe.depth_table->bytes();
         }
         e.bytes = f->bytes();
         e.frame = std::move(f);

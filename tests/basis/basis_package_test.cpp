@@ -36,11 +36,7 @@ BakeDescription description() {
 
 // Factors with every value distinct (and a few awkward floats) so a misplaced byte shows.
 FrameFactors factors(const BakeDescription& d, int frame, int rank) {
-    FrameFactors f;
-    f.frame = frame;
-    f.pixels = d.pixelCount();
-    f.columns = d.columnCount();
-    f.rank = rank;
+    FrameFactors f = emptyFrameFactors(d, frame, rank);
     for (int i = 0; i < f.pixels * rank; ++i)
         f.u_half.push_back(static_cast<uint16_t>(0x3000 + 37 * i + frame));
     for (int i = 0; i < f.columns * rank; ++i) f.svt.push_back(0.5f * i - 3.25f + frame);
