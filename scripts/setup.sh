@@ -21,6 +21,15 @@ sudo=""
 if [[ "$(id -u)" != 0 ]]; then sudo="sudo"; fi
 echo "setup: installing ${#missing[@]} package(s): ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
+# Packages with services (munge, slurmctld, slurmd) would start them on install; nothing here needs
+# them (tests/pipeline/slurm_cluster.sh starts its own daemons), and in a container without systemd
+# their start-up fails. A policy-rc.d that denies every start, only for this install, stops that.
+policy=/usr/sbin/policy-rc.d
+if [[ ! -e "$policy" ]]; then
+  printf '#!/bin/sh\n# scripts/setup.sh: no service starts during its install\nexit 101\n' | $sudo tee "$policy" > /dev/null
+  $sudo chmod 755 "$policy"
+  trap '$sudo rm -f "$policy"' EXIT
+fi
 $sudo apt-get update -qq
 $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 echo "setup: done"

@@ -15,9 +15,11 @@ for flavour in release asan; do
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
   export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
   # The accuracy guard (tests/accuracy) runs in the release flavour: the same arithmetic under the
-  # sanitizers would take ten times as long.
+  # sanitizers would take ten times as long. So do the pipeline tests (tests/pipeline): they test
+  # scripts, a Slurm cluster and CMake around the bakes and merges that tests/bake and tests/cli
+  # already run under the sanitizers.
   exclude=bench
-  [[ "$flavour" == asan ]] && exclude='bench|accuracy'
+  [[ "$flavour" == asan ]] && exclude='bench|accuracy|pipeline'
   ctest --test-dir "$root/build/$flavour" --output-on-failure -j "$jobs" -LE "$exclude"
 done
 # ThreadSanitizer (issue 14): only the test of worlds on several threads and the libraries it needs

@@ -6,11 +6,15 @@
 #define XXH_INLINE_ALL
 #include <xxhash.h>
 
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "bake/bake_checkpoint.h"
+#include "bake/bake_metadata.h"
+#include "bake/package_merge.h"
 #include "basis/basis_package.h"
 #include "look/look.h"
 #include "package/package_writer.h"
@@ -23,6 +27,14 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+std::string hexHash(XXH64_hash_t hash) {
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
+    return text;
+}
+
+std::string textHash(const std::string& text) { return hexHash(XXH3_64bits(text.data(), text.size())); }
+
 std::string fileHash(const std::filesystem::path& file) {
     std::ifstream in(file, std::ios::binary);
     XXH3_state_t* state = XXH3_createState();
@@ -34,9 +46,7 @@ std::string fileHash(const std::filesystem::path& file) {
     }
     const XXH64_hash_t hash = XXH3_64bits_digest(state);
     XXH3_freeState(state);
-    char text[17];
-    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
-    return text;
+    return hexHash(hash);
 }
 
 long peakMemoryKiB() {
@@ -131,10 +141,76 @@ AxisAnalysis analyseSequenceAxes(const vdb::VdbSequence& sequence, const std::ve
     return analyseAxes(description.axes, description.bins, range, collapseTolerance(config.storage));
 }
 
+namespace {
+
+// What the errors entry of a frame's metadata says, for a frame resumed from an earlier run.
+FrameBakeReport reportFromMetadata(int frame, const FrameMetadata& kept) {
+    const nlohmann::ordered_json& e = kept.errors;
+    FrameBakeReport fr;
+    fr.frame = frame;
+    fr.resumed = true;
+    fr.rank = e.at("rank");
+    fr.truncation_error = e.at("svd_truncation_relative_error");
+    fr.quantisation_error = e.at("storage_relative_error");
+    fr.detailed_pixels = e.at("pixels_with_footprint_rays");
+    fr.alpha_storage_bound = e.at("alpha_storage_error_bound");
+    fr.u_bytes = e.at("bytes").at("u");
+    fr.svt_bytes = e.at("bytes").at("svt");
+    fr.depth_bytes = e.at("bytes").at("depths");
+    fr.scattering_orders = e.at("scattering_orders");
+    fr.cell_edge_voxels = e.at("cell_edge_voxels");
+    fr.light_spacing_voxels = e.at("light_spacing_voxels");
+    fr.cell_optical_depth = e.at("cell_optical_depth");
+    fr.last_order_fraction = e.at("last_order_fraction");
+    return fr;
+}
+
+// The META document without its per-frame entries (bake_metadata.h): the description, provenance,
+// camera and axis analysis, all of them from the whole sequence and the settings, never from which
+// frames this process bakes, so that shards of a bake merge into the bytes of one bake.
+nlohmann::ordered_json sharedMetadata(const std::string& sequence_path, const vdb::VdbSequence& sequence,
+                                      const BakeConfig& config, const std::string& tool_version,
+                                      const SceneSetup& scene, const basis::BakeDescription& description,
+                                      const BakeReport& report) {
+    // The frames a package holds are listed per frame; the selection that chose them is not a
+    // setting of the frames themselves.
+    nlohmann::ordered_json settings = nlohmann::ordered_json::parse(configToJson(config));
+    settings.erase("frames");
+    const std::string settings_text = settings.dump();
+    nlohmann::ordered_json sequence_frames = nlohmann::ordered_json::array();
+    for (const vdb::FrameFile& f : sequence.frames()) sequence_frames.push_back(f.number);
+    nlohmann::ordered_json extra;
+    extra["provenance"] = {{"tool", "firelook"},
+                           {"tool_version", tool_version},
+                           {"sequence", sequence_path},
+                           {"sequence_frames", sequence_frames},
+                           {"density_grid", sequence.options().density_grid},
+                           {"temperature_grid", sequence.options().temperature_grid},
+                           {"temperature_scale", sequence.options().temperature_scale},
+                           {"temperature_offset", sequence.options().temperature_offset},
+                           {"clamp_extreme", sequence.options().clamp_extreme},
+                           {"sources", nlohmann::ordered_json::array()},
+                           {"settings", settings},
+                           {"settings_xxh3_64", textHash(settings_text)}};
+    const render::CameraParameters& cam = scene.camera.parameters();
+    extra["camera"] = {{"source", scene.camera_source},
+                       {"world_from_camera", cam.world_from_camera},
+                       {"yfov_radians", cam.yfov_radians},
+                       {"width", cam.width},
+                       {"height", cam.height}};
+    extra["errors"] = nlohmann::ordered_json::array();
+    if (report.axes_analysed) extra["axis_collapse"] = nlohmann::ordered_json::parse(axisAnalysisToJson(report.axes));
+    basis::BakeDescription without_frames = description;
+    without_frames.frames.clear();
+    return nlohmann::ordered_json::parse(basis::makeMetadata(without_frames, extra.dump()));
+}
+
+}  // namespace
+
 BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::path& output,
                        const BakeConfig& config, const std::string& tool_version,
                        const std::function<bool(double, const std::string&)>& progress,
-                       const std::function<void(const std::string&)>& notice) {
+                       const std::function<void(const std::string&)>& notice, const BakeRunOptions& run) {
     const auto start = std::chrono::steady_clock::now();
     const vdb::VdbSequence sequence = vdb::VdbSequence::open(sequence_path, config.read);
     const std::vector<int> frames = selectFrames(sequence, config.frames);
@@ -142,11 +218,14 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
     basis::BakeDescription description = describeBake(sequence, config, scene);
     BakeReport report;
     // Before any tracing, since every frame of a package shares the axes: one extra load of each
-    // frame, small beside its trace.
+    // frame of the whole sequence (not only the frames selected, so that shards agree), small
+    // beside a frame's trace.
     const auto& ax = description.axes;
     if (config.collapse_unused_axes &&
         (ax.temperature_threshold.size() > 1 || ax.smoke_extinction.size() > 1 || ax.flame_extinction.size() > 1)) {
-        report.axes = analyseSequenceAxes(sequence, frames, description, config, [&](int frame) {
+        std::vector<int> all;
+        for (const vdb::FrameFile& f : sequence.frames()) all.push_back(f.number);
+        report.axes = analyseSequenceAxes(sequence, all, description, config, [&](int frame) {
             return !progress || progress(0.0, "frame " + std::to_string(frame) + ": checking the look axes");
         });
         report.axes_analysed = true;
@@ -155,12 +234,13 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
             for (const AxisCollapse& c : report.axes.collapsed) notice(describeAxisCollapse(c, report.axes));
     }
     const BasisModel model = description;
+    const nlohmann::ordered_json shared =
+        sharedMetadata(sequence_path, sequence, config, tool_version, scene, description, report);
 
     const uint64_t budget = config.memory_budget_bytes ? config.memory_budget_bytes : defaultMemoryBudget();
-    package::PackageWriter writer(output);
     report.memory_budget_bytes = budget;
-    nlohmann::ordered_json sources = nlohmann::ordered_json::array();
-    nlohmann::ordered_json frame_errors = nlohmann::ordered_json::array();
+    BakeCheckpoint checkpoint(output, run.resume);
+    std::vector<std::filesystem::path> parts;
     for (size_t n = 0; n < frames.size(); ++n) {
         const int frame_number = frames[n];
         const std::string detail = "frame " + std::to_string(frame_number) + " (" + std::to_string(n + 1) + "/" +
@@ -169,17 +249,35 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
             return !progress || progress((double(n) + 0.9 * f) / frames.size(), detail);
         };
         if (!frame_progress(0.0)) throw std::runtime_error("cancelled");
+        parts.push_back(checkpoint.partPath(frame_number));
+        const std::string source_hash = fileHash(
+            std::find_if(sequence.frames().begin(), sequence.frames().end(), [&](const vdb::FrameFile& f) {
+                return f.number == frame_number;
+            })->path);
+        if (run.resume) {
+            std::string why;
+            if (const std::optional<FrameMetadata> kept = checkpoint.reusable(frame_number, shared, source_hash, why)) {
+                report.frames.push_back(reportFromMetadata(frame_number, *kept));
+                report.uncompressed_basis_bytes +=
+                    uint64_t(description.width) * description.height * model.axes.pointCount() *
+                    model.columnsPerPoint() * sizeof(float);
+                if (progress && !progress(double(n + 1) / frames.size(), detail + " kept")) throw std::runtime_error("cancelled");
+                continue;
+            }
+            if (notice && !why.empty()) notice(why);
+        }
         FrameBakeReport fr;
         fr.frame = frame_number;
+        FrameMetadata entries;
         // The frame's grids are released once the medium holds its voxels.
         const render::Medium medium = [&] {
             const vdb::VolumeFrame frame = sequence.load(frame_number);
-            sources.push_back({{"frame", frame_number},
-                               {"file", frame.file.filename().string()},
-                               {"xxh3_64", fileHash(frame.file)},
-                               {"cleaned_non_finite", frame.cleaned_non_finite},
-                               {"cleaned_negative_density", frame.cleaned_negative_density},
-                               {"clamped_extreme", frame.density_cleaned.clamped + frame.temperature_cleaned.clamped}});
+            entries.source = {{"frame", frame_number},
+                              {"file", frame.file.filename().string()},
+                              {"xxh3_64", source_hash},
+                              {"cleaned_non_finite", frame.cleaned_non_finite},
+                              {"cleaned_negative_density", frame.cleaned_negative_density},
+                              {"clamped_extreme", frame.density_cleaned.clamped + frame.temperature_cleaned.clamped}};
             fr.active_voxels = frame.density_stats.active_voxels;
             return mediumFromFrame(frame);
         }();
@@ -214,56 +312,41 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         fr.compress_seconds = secondsSince(t0);
         fr.rank = compressed.factors.rank;
         fr.truncation_error = compressed.truncation_error;
-        const basis::StoredFrame stored =
-            writeFrameFactors(writer, description, compressed.factors, config.storage);
+        // The frame's own package in the checkpoint folder, written atomically: from here on an
+        // interrupted bake keeps it.
+        package::PackageWriter writer(parts.back());
+        const basis::StoredFrame stored = writeFrameFactors(writer, description, compressed.factors, config.storage);
         fr.quantisation_error = std::hypot(compressed.quantisation_error, stored.u_error, stored.svt_error);
         fr.detailed_pixels = stored.detailed_pixels;
         fr.alpha_storage_bound = stored.alpha_bound;
         fr.u_bytes = stored.u_bytes;
         fr.svt_bytes = stored.svt_bytes;
         fr.depth_bytes = stored.depth_bytes;
-        description.frames.push_back({frame_number, fr.rank});
+        entries.record = {{"frame", frame_number}, {"rank", fr.rank}};
+        entries.errors = {{"frame", frame_number},
+                          {"rank", fr.rank},
+                          {"svd_truncation_relative_error", fr.truncation_error},
+                          {"storage_relative_error", fr.quantisation_error},
+                          {"pixels_with_footprint_rays", fr.detailed_pixels},
+                          {"alpha_storage_error_bound", fr.alpha_storage_bound},
+                          {"bytes", {{"u", fr.u_bytes}, {"svt", fr.svt_bytes}, {"depths", fr.depth_bytes}}},
+                          {"scattering_orders", fr.scattering_orders},
+                          {"cell_edge_voxels", fr.cell_edge_voxels},
+                          {"light_spacing_voxels", fr.light_spacing_voxels},
+                          {"cell_optical_depth", fr.cell_optical_depth},
+                          {"last_order_fraction", fr.last_order_fraction}};
+        writer.addMetadata(joinMetadata(shared, {&entries}));
+        writer.commit();
         report.uncompressed_basis_bytes += traced.matrix.size() * sizeof(float);
-        frame_errors.push_back({{"frame", frame_number},
-                                {"rank", fr.rank},
-                                {"svd_truncation_relative_error", fr.truncation_error},
-                                {"storage_relative_error", fr.quantisation_error},
-                                {"pixels_with_footprint_rays", fr.detailed_pixels},
-                                {"alpha_storage_error_bound", fr.alpha_storage_bound},
-                                {"bytes", {{"u", fr.u_bytes}, {"svt", fr.svt_bytes}, {"depths", fr.depth_bytes}}},
-                                {"scattering_orders", fr.scattering_orders},
-                                {"cell_edge_voxels", fr.cell_edge_voxels},
-                                {"light_spacing_voxels", fr.light_spacing_voxels},
-                                {"cell_optical_depth", fr.cell_optical_depth},
-                                {"last_order_fraction", fr.last_order_fraction}});
         report.frames.push_back(fr);
         if (progress && !progress(double(n + 1) / frames.size(), detail)) throw std::runtime_error("cancelled");
     }
 
-    nlohmann::ordered_json extra;
-    extra["provenance"] = {{"tool", "firelook"},
-                           {"tool_version", tool_version},
-                           {"sequence", sequence_path},
-                           {"density_grid", sequence.options().density_grid},
-                           {"temperature_grid", sequence.options().temperature_grid},
-                           {"temperature_scale", sequence.options().temperature_scale},
-                           {"temperature_offset", sequence.options().temperature_offset},
-                           {"clamp_extreme", sequence.options().clamp_extreme},
-                           {"sources", sources},
-                           {"settings", nlohmann::ordered_json::parse(configToJson(config))}};
-    const render::CameraParameters& cam = scene.camera.parameters();
-    extra["camera"] = {{"source", scene.camera_source},
-                       {"world_from_camera", cam.world_from_camera},
-                       {"yfov_radians", cam.yfov_radians},
-                       {"width", cam.width},
-                       {"height", cam.height}};
-    extra["errors"] = frame_errors;
-    if (report.axes_analysed) extra["axis_collapse"] = nlohmann::ordered_json::parse(axisAnalysisToJson(report.axes));
-    writer.addMetadata(basis::makeMetadata(description, extra.dump()));
-    writer.commit();
-
+    // The package from the frames' parts, as `firelook merge` writes it; the selection may skip
+    // frames of the sequence on purpose.
+    report.package_bytes = mergePackages(parts, output, {.allow_gaps = true, .only = {}}).package_bytes;
+    checkpoint.remove();
     report.seconds = secondsSince(start);
-    report.package_bytes = std::filesystem::file_size(output);
     report.peak_memory_kib = peakMemoryKiB();
     return report;
 }

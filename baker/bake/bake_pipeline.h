@@ -16,6 +16,7 @@ namespace firelook::bake {
 
 struct FrameBakeReport {
     int frame = 0;
+    bool resumed = false;  // kept from an interrupted run (--resume): no timings, the sizes and errors it recorded
     int rank = 0;
     double truncation_error = 0.0;
     double quantisation_error = 0.0;  // of U and S V^T as stored, relative to ||B||_F
@@ -72,12 +73,26 @@ FrameMemoryPlan frameMemoryPlan(const render::Medium& medium, const render::Came
 basis::BakeDescription describeBake(const vdb::VdbSequence& sequence, const BakeConfig& config,
                                     const SceneSetup& scene);
 
-// progress(fraction, detail) returns false to cancel: the bake then throws and
-// leaves no package behind. notice gets one line per axis collapsed, before any tracing.
+// How this run goes about a bake; nothing here changes the package's bytes.
+struct BakeRunOptions {
+    // Reuse the frames an interrupted bake of the same output kept (bake/bake_checkpoint.h) when
+    // they were baked with the same settings from unchanged files; bake only the others.
+    bool resume = false;
+};
+
+// Each finished frame is kept as its own small package in "<output>.partial/"; the package is
+// assembled from those parts at the end (bake/package_merge.h) and the folder removed. A frame's
+// bytes depend only on the settings, the whole sequence (temperature range, camera, axis analysis)
+// and the frame itself, never on which other frames the bake selects: shards of a sequence baked
+// separately merge into the package one bake writes.
+// progress(fraction, detail) returns false to cancel: the bake then throws, leaves no package
+// behind and keeps the finished frames for --resume. notice gets one line per axis collapsed,
+// before any tracing, and one per kept frame that cannot be resumed.
 BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::path& output,
                        const BakeConfig& config, const std::string& tool_version,
                        const std::function<bool(double, const std::string&)>& progress = {},
-                       const std::function<void(const std::string&)>& notice = {});
+                       const std::function<void(const std::string&)>& notice = {},
+                       const BakeRunOptions& run = {});
 
 // The axis analysis of the frames `frames` (loads each once), as bakePackage does it.
 AxisAnalysis analyseSequenceAxes(const vdb::VdbSequence& sequence, const std::vector<int>& frames,

@@ -20,7 +20,8 @@
 namespace firelook::bake {
 namespace {
 
-// Progress from worker threads: one report at a time (whoever gets the lock), and a stop flag every
+// Progress from worker threads: one report at a time (whoever gets the lock), never below the last
+// one (a thread may reach the lock after another reported a later fraction), and a stop flag every
 // loop polls so a cancel ends the work within a fraction of a second.
 class ProgressGate {
   public:
@@ -28,7 +29,9 @@ class ProgressGate {
     void report(double fraction) {
         if (!progress_ || stop_.load(std::memory_order_relaxed)) return;
         std::unique_lock lock(mutex_, std::try_to_lock);
-        if (lock.owns_lock() && !progress_(fraction)) stop_.store(true);
+        if (!lock.owns_lock() || fraction < last_) return;
+        last_ = fraction;
+        if (!progress_(fraction)) stop_.store(true);
     }
     // Reports from the caller's thread and throws if the work was cancelled.
     void checkpoint(double fraction) {
@@ -44,6 +47,7 @@ class ProgressGate {
   private:
     const std::function<bool(double)>& progress_;
     std::mutex mutex_;
+    double last_ = 0.0;  // guarded by mutex_
     std::atomic<bool> stop_{false};
 };
 

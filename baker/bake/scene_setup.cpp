@@ -65,7 +65,7 @@ std::pair<double, double> sequenceTemperatureRange(const vdb::VdbSequence& seque
     return {lo, hi};
 }
 
-std::vector<int> selectFrames(const vdb::VdbSequence& sequence, const std::string& selection) {
+std::vector<std::pair<int, int>> parseFrameRanges(const std::string& selection) {
     // A comma-separated list of "A-B" ranges and single frames; empty selects all.
     std::vector<std::pair<int, int>> ranges;
     size_t start = 0;
@@ -81,6 +81,11 @@ std::vector<int> selectFrames(const vdb::VdbSequence& sequence, const std::strin
         }
         start = comma + 1;
     }
+    return ranges;
+}
+
+std::vector<int> selectFrames(const vdb::VdbSequence& sequence, const std::string& selection) {
+    const std::vector<std::pair<int, int>> ranges = parseFrameRanges(selection);
     std::vector<int> frames;
     for (const vdb::FrameFile& f : sequence.frames()) {
         const bool wanted = ranges.empty() || std::any_of(ranges.begin(), ranges.end(), [&](const auto& r) {

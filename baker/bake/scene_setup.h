@@ -42,6 +42,10 @@ render::Medium mediumFromFrame(const vdb::VolumeFrame& frame);
 // The range includes 0 when the grids' background is 0, so ambient air sits in bin 0.
 std::pair<double, double> sequenceTemperatureRange(const vdb::VdbSequence& sequence);
 
+// Parses "A-B,C,..." into its ranges ([first, last], a single frame as [C, C]); empty gives none.
+// std::invalid_argument naming the text when it is not such a list.
+std::vector<std::pair<int, int>> parseFrameRanges(const std::string& selection);
+
 // Parses "A-B,C,..." into the frames of the sequence it selects (all when empty).
 std::vector<int> selectFrames(const vdb::VdbSequence& sequence, const std::string& range);
 

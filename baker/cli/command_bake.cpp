@@ -1,8 +1,13 @@
 // firelook bake SEQUENCE -o OUT.firelook [--frames A-B] [--size WxH] [--bins N]
 //                [--scene S.gltf | --camera ...] [--config BAKE.json] [--seed S] [--report R.json]
+//                [--resume] [--threads N]
+#include <tbb/global_control.h>
+
 #include <cstdio>
+#include <memory>
 #include <nlohmann/json.hpp>
 
+#include "bake/bake_checkpoint.h"
 #include "bake/bake_pipeline.h"
 #include "common/atomic_file.h"
 #include "cli/commands.h"
@@ -20,6 +25,7 @@ void writeReportJson(const std::string& path, const bake::BakeReport& report) {
     nlohmann::ordered_json frames = nlohmann::ordered_json::array();
     for (const bake::FrameBakeReport& f : report.frames)
         frames.push_back({{"frame", f.frame},
+                          {"resumed", f.resumed},
                           {"rank", f.rank},
                           {"svd_truncation_relative_error", f.truncation_error},
                           {"storage_relative_error", f.quantisation_error},
@@ -59,7 +65,8 @@ void registerBakeCommand(CLI::App& app) {
     struct Args {
         std::string sequence, output, frames, report_json, memory_budget;
         uint64_t seed = 1;
-        bool keep_axes = false;
+        int threads = 0;
+        bool keep_axes = false, resume = false;
         SceneFlags scene;
     };
     auto args = std::make_shared<Args>();
@@ -77,6 +84,13 @@ void registerBakeCommand(CLI::App& app) {
     cmd->add_flag("--keep-axes", args->keep_axes,
                   "bake every sample of every look axis, even an axis whose samples cannot change any frame "
                   "(by default such an axis is baked at one sample and the bake says so)");
+    cmd->add_flag("--resume", args->resume,
+                  "continue an interrupted bake of the same output: the frames it finished (kept in "
+                  "OUT.firelook.partial/) are reused when they were baked with the same settings from unchanged files, "
+                  "and only the others are baked; the package is byte for byte the one an uninterrupted bake writes");
+    cmd->add_option("--threads", args->threads,
+                    "worker threads (default: every core); the package's bytes do not depend on it")
+        ->check(CLI::NonNegativeNumber);
     addSceneFlags(*cmd, args->scene);
     cmd->callback([cmd, args] {
         bake::BakeConfig config = makeBakeConfig(*cmd, args->scene);
@@ -84,14 +98,30 @@ void registerBakeCommand(CLI::App& app) {
         if (cmd->count("--seed") || args->scene.config.empty()) config.seed = args->seed;
         if (!args->memory_budget.empty()) config.memory_budget_bytes = bake::parseByteSize(args->memory_budget);
         if (args->keep_axes) config.collapse_unused_axes = false;
+        std::unique_ptr<tbb::global_control> threads;
+        if (args->threads > 0)
+            threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                            static_cast<size_t>(args->threads));
         ProgressBar bar("bake");
-        const bake::BakeReport report = bake::bakePackage(
-            args->sequence, args->output, config, kToolVersion, [&](double fraction, const std::string& detail) {
-                bar.update(fraction, detail);
-                throwIfInterrupted();  // unwinds through the writer, which deletes its temporary file
-                return true;
-            },
-            [](const std::string& line) { std::fprintf(stderr, "firelook: %s\n", line.c_str()); });
+        bake::BakeReport report;
+        try {
+            report = bake::bakePackage(
+                args->sequence, args->output, config, kToolVersion,
+                [&](double fraction, const std::string& detail) {
+                    bar.update(fraction, detail);
+                    throwIfInterrupted();  // unwinds through the writer, which deletes its temporary file
+                    return true;
+                },
+                [](const std::string& line) { std::fprintf(stderr, "firelook: %s\n", line.c_str()); },
+                {.resume = args->resume});
+        } catch (...) {
+            // Finished frames stay for --resume; say where, then report the failure itself.
+            const size_t kept = bake::BakeCheckpoint::keptFrames(args->output);
+            if (kept > 0)
+                std::fprintf(stderr, "firelook: %zu finished frame%s kept in %s; the same command with --resume bakes only the rest\n",
+                             kept, kept == 1 ? "" : "s", bake::BakeCheckpoint::folderFor(args->output).c_str());
+            throw;
+        }
         bar.finish(std::to_string(report.frames.size()) + " frames");
         std::printf("wrote %s: %zu frames, %.1f MB (%.2f%% of the %.1f MB of float basis images)\n",
                     args->output.c_str(), report.frames.size(), report.package_bytes / 1e6,
@@ -100,10 +130,11 @@ void registerBakeCommand(CLI::App& app) {
         std::printf("%6s %5s %10s %10s %9s %9s %9s %9s %7s %9s %9s\n", "frame", "rank", "svd err", "store err",
                     "alpha err", "KiB", "U KiB", "depth KiB", "orders", "trace s", "svd s");
         for (const bake::FrameBakeReport& f : report.frames)
-            std::printf("%6d %5d %10.2e %10.2e %9.1e %9.1f %9.1f %9.1f %7d %9.1f %9.1f\n", f.frame, f.rank,
+            std::printf("%6d %5d %10.2e %10.2e %9.1e %9.1f %9.1f %9.1f %7d %9.1f %9.1f%s\n", f.frame, f.rank,
                         f.truncation_error, f.quantisation_error, f.alpha_storage_bound,
                         (f.u_bytes + f.svt_bytes + f.depth_bytes) / 1024.0, f.u_bytes / 1024.0,
-                        f.depth_bytes / 1024.0, f.scattering_orders, f.trace_seconds, f.compress_seconds);
+                        f.depth_bytes / 1024.0, f.scattering_orders, f.trace_seconds, f.compress_seconds,
+                        f.resumed ? "  (resumed)" : "");
         std::printf("bake time %.1f s, peak memory %.0f MiB (budget %.0f MiB)\n", report.seconds,
                     report.peak_memory_kib / 1024.0, report.memory_budget_bytes / 1048576.0);
         if (!args->report_json.empty()) writeReportJson(args->report_json, report);

@@ -70,6 +70,18 @@ ordered_json packageInfo(const std::filesystem::path& path) {
     if (const std::optional<std::string> meta = reader.metadata()) {
         const ordered_json doc = ordered_json::parse(*meta, nullptr, false);
         if (!doc.is_discarded()) info["metadata"] = doc;
+        // What each frame was baked from, for a pipeline that checks whether a package is up to
+        // date: its input file's XXH3-64 (`xxhsum -H3`) and the hash of the settings it was baked with.
+        const ordered_json::json_pointer sources("/provenance/sources"), settings("/provenance/settings_xxh3_64");
+        if (!doc.is_discarded() && doc.contains(sources) && doc.contains(settings)) {
+            ordered_json inputs = ordered_json::array();
+            for (const ordered_json& s : doc.at(sources))
+                inputs.push_back({{"frame", s.value("frame", 0)},
+                                  {"file", s.value("file", "")},
+                                  {"xxh3_64", s.value("xxh3_64", "")},
+                                  {"settings_xxh3_64", doc.at(settings)}});
+            info["inputs"] = inputs;
+        }
     }
     return info;
 }
@@ -169,6 +181,9 @@ void printPackage(const ordered_json& info) {
         std::printf("  stored bytes per frame: mean %.1f KiB, largest %.1f KiB (%zu frames)\n",
                     total / 1024.0 / info["bytes_by_frame"].size(), largest / 1024.0, info["bytes_by_frame"].size());
     }
+    if (info.contains("inputs"))
+        std::printf("  baked with settings xxh3 %s from %zu frame files (their xxh3 under \"inputs\" in --json)\n",
+                    info["inputs"].front()["settings_xxh3_64"].get<std::string>().c_str(), info["inputs"].size());
     std::printf("  (--json prints everything, including provenance, camera, lights and the default look)\n");
 }
 

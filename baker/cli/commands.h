@@ -15,5 +15,7 @@ void registerCompareCommand(CLI::App& app);
 void registerAnimateCommand(CLI::App& app);
 void registerBenchCommand(CLI::App& app);
 void registerRepackCommand(CLI::App& app);
+void registerMergeCommand(CLI::App& app);
+void registerSplitCommand(CLI::App& app);
 
 }  // namespace firelook::cli

@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
     firelook::cli::registerAnimateCommand(app);
     firelook::cli::registerBenchCommand(app);
     firelook::cli::registerRepackCommand(app);
+    firelook::cli::registerMergeCommand(app);
+    firelook::cli::registerSplitCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -91,6 +91,10 @@ class PackageReader {
     // The same into `buffer`; the span is valid until the buffer's next use.
     std::span<const std::byte> read(const SectionInfo& section, SectionBuffer& buffer) const;
 
+    // The section's bytes as stored (compressed or not), checksum-verified, zero-copy: what
+    // PackageWriter::addStoredSection copies into another package.
+    std::span<const std::byte> stored(const SectionInfo& section) const;
+
     // A zero-copy, 64-byte aligned view of a Raw section (InvalidArgument for Zstd), checksum-verified.
     std::span<const std::byte> mapped(const SectionInfo& section) const;
 

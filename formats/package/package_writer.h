@@ -43,6 +43,12 @@ class PackageWriter {
     SectionInfo addSection(uint32_t type, uint32_t frame, std::span<const std::byte> raw,
                            Codec codec = Codec::Zstd, bool required = true);
 
+    // Appends a section of another package as it is stored there (`section` its index entry,
+    // `stored` its stored bytes, e.g. PackageReader::stored): no decompression or recompression, so
+    // a merge of packages keeps every section's bytes. The checksum is verified against `section`
+    // (Corrupt otherwise); the same (type, frame) rule as addSection.
+    SectionInfo addStoredSection(const SectionInfo& section, std::span<const std::byte> stored);
+
     // The provenance record: UTF-8 JSON text (not parsed here; its content is the baker's business),
     // stored as section kMetadataType, kNoFrame, zstd-compressed.
     SectionInfo addMetadata(std::string_view json);

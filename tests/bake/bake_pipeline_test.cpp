@@ -8,11 +8,10 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
-#include <fstream>
-#include <iterator>
 #include <nlohmann/json.hpp>
 
 #include "../support/temp_dir.h"
+#include "tiny_sample_bake.h"
 #include "basis/basis_package.h"
 #include "basis/frame_factors.h"
 #include "basis/look_renderer.h"
@@ -24,30 +23,8 @@ namespace {
 
 using firelook::testing::TempDir;
 
-BakeConfig tinyConfig(uint64_t seed = 1) {
-    BakeConfig c;
-    c.frames = "1";
-    c.scene.width = 16;
-    c.scene.height = 16;
-    c.scene.up = render::UpAxis::Z;
-    c.bins = 4;
-    // Given explicitly, so the bake does not load all 12 frames to find the range.
-    c.t_lo = 0.0;
-    c.t_hi = 3.0;
-    c.axes = {{1.0, 2.0}, {4.0}, {1.5}};
-    c.alpha_threshold_samples = 3;
-    c.trace.photons_primary = 2000;
-    c.trace.photons_per_order = 1000;
-    c.trace.max_orders = 3;
-    c.trace.cell_voxels = 8;
-    c.seed = seed;
-    return c;
-}
-
-std::string fileBytes(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), {}};
-}
+using test::fileBytes;
+using test::tinyConfig;
 
 TEST(BakePipeline, BakesAReadablePackage) {
     TempDir dir;
@@ -192,7 +169,9 @@ TEST(BakePipeline, ProgressIsMonotonicAndEndsAtOne) {
     bakePackage(FIRELOOK_SAMPLE_DIR, dir / "a.firelook", tinyConfig(), "test",
                 [&](double f, const std::string& detail) {
                     fractions.push_back(f);
-                    EXPECT_NE(detail.find("frame 1"), std::string::npos) << detail;
+                    // The look axes are checked against every frame of the sequence, then frame 1 is baked.
+                    EXPECT_TRUE(detail.starts_with("frame 1 (") || detail.ends_with(": checking the look axes"))
+                        << detail;
                     return true;
                 });
     ASSERT_FALSE(fractions.empty());
@@ -270,7 +249,9 @@ TEST(BakePipeline, AxisThatCannotChangeAFrameCollapses) {
     EXPECT_EQ(collapsed.axes.collapsed[1].axis, "flame_extinction");
     ASSERT_EQ(notices.size(), 2u);
     EXPECT_NE(notices[0].find("temperature_threshold axis collapsed"), std::string::npos) << notices[0];
-    EXPECT_LT(collapsed.axes.temperatures.t_max, 0.4);
+    // The whole scaled sequence's range (to 0.58), not frame 12's alone (0.39): a package's axes do
+    // not depend on which frames a bake selects, so shards agree.
+    EXPECT_LT(collapsed.axes.temperatures.t_max, 0.6);
     // Columns traced: (1 x 2 x 1) against (6 x 2 x 2) grid points, 16 bins + 1 light each.
     EXPECT_EQ(collapsed.frames.at(0).columns_traced, 2u * 17);
     EXPECT_EQ(full.frames.at(0).columns_traced, 24u * 17);

@@ -14,6 +14,9 @@
 #include "../support/command.h"
 #include "../support/temp_dir.h"
 #include "../support/tiny_bake_config.h"
+
+#define XXH_INLINE_ALL
+#include <xxhash.h>
 #include "image/image_io.h"
 
 namespace {
@@ -218,6 +221,58 @@ TEST(Cli, TruncatedPackageIsRefusedByName) {
     r = runFirelook(dir, "render cut.firelook --frame 1 --out a.exr");
     expectOneLineError(r, "cut.firelook");
     EXPECT_FALSE(std::filesystem::exists(dir / "a.exr"));
+}
+
+// Shards baked as separate commands, with different thread counts, merge into the one-shot bake's
+// bytes; an overlapping shard is one error line naming the frame, and nothing is written.
+TEST(Cli, MergedShardsEqualTheOneShotBake) {
+    TempDir dir;
+    writeTinyConfig(dir);
+    const std::string bake = "bake '" + kSample + "' --size 16x16 --up z --config bake.json";
+    ASSERT_EQ(runFirelook(dir, bake + " --frames 1-3 -o one.firelook").exit_code, 0);
+    ASSERT_EQ(runFirelook(dir, bake + " --frames 1 --threads 1 -o a.firelook").exit_code, 0);
+    ASSERT_EQ(runFirelook(dir, bake + " --frames 2-3 --threads 2 -o b.firelook").exit_code, 0);
+    CommandResult r = runFirelook(dir, "merge b.firelook a.firelook -o merged.firelook");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("wrote merged.firelook: 3 frames (1-3)"), std::string::npos) << r.out;
+    EXPECT_TRUE(readFile(dir / "merged.firelook") == readFile(dir / "one.firelook"));
+    r = runFirelook(dir, "merge a.firelook one.firelook -o twice.firelook");
+    expectOneLineError(r, "frame 1 is also in a.firelook");
+    EXPECT_FALSE(std::filesystem::exists(dir / "twice.firelook"));
+    // The reverse: frames 2-3 split out of the one-shot package are the shard baked alone.
+    r = runFirelook(dir, "split one.firelook --frames 2-3 -o part.firelook");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(readFile(dir / "part.firelook") == readFile(dir / "b.firelook"));
+    r = runFirelook(dir, "split one.firelook --frames 7-9 -o none.firelook");
+    expectOneLineError(r, "no frame of the parts");
+    EXPECT_FALSE(std::filesystem::exists(dir / "none.firelook"));
+}
+
+// info --json lists each frame's input file with its XXH3-64 (the hash `xxhsum -H3` prints) and the
+// settings' hash: the same for shards of one bake, another for other settings.
+TEST(Cli, InfoShowsWhatEachFrameWasBakedFrom) {
+    TempDir dir;
+    writeTinyConfig(dir);
+    const std::string bake = "bake '" + kSample + "' --size 16x16 --up z --config bake.json";
+    ASSERT_EQ(runFirelook(dir, bake + " --frames 1-2 -o a.firelook").exit_code, 0);
+    ASSERT_EQ(runFirelook(dir, bake + " --frames 3 -o b.firelook").exit_code, 0);
+    ASSERT_EQ(runFirelook(dir, bake + " --frames 3 --seed 7 -o c.firelook").exit_code, 0);
+    const auto inputs = [&](const char* package) {
+        const CommandResult r = runFirelook(dir, std::string("info --json ") + package);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return json::parse(r.out).at("inputs");
+    };
+    const json a = inputs("a.firelook"), b = inputs("b.firelook"), c = inputs("c.firelook");
+    ASSERT_EQ(a.size(), 2u);
+    EXPECT_EQ(a[1].at("frame"), 2);
+    EXPECT_EQ(a[1].at("file"), "fluid_data_0002.vdb");
+    const std::string data = readFile(std::filesystem::path(kSample) / "fluid_data_0002.vdb");
+    char hash[17];
+    std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(XXH3_64bits(data.data(), data.size())));
+    EXPECT_EQ(a[1].at("xxh3_64"), hash);
+    EXPECT_EQ(a[0].at("settings_xxh3_64"), b[0].at("settings_xxh3_64")) << "shards of one bake";
+    EXPECT_NE(b[0].at("settings_xxh3_64"), c[0].at("settings_xxh3_64")) << "another seed";
+    EXPECT_EQ(b[0].at("xxh3_64"), c[0].at("xxh3_64"));
 }
 
 TEST(Cli, BakeIntoMissingFolderLeavesNothing) {

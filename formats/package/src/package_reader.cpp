@@ -257,6 +257,10 @@ std::span<const std::byte> PackageReader::read(const SectionInfo& section, Secti
     return {buffer.bytes_.data(), buffer.bytes_.size()};
 }
 
+std::span<const std::byte> PackageReader::stored(const SectionInfo& section) const {
+    return verifiedStoredBytes(indexOf(section, "stored"));
+}
+
 std::span<const std::byte> PackageReader::mapped(const SectionInfo& section) const {
     const std::size_t index = indexOf(section, "mapped");
     if (sections_[index].codec != Codec::Raw) {

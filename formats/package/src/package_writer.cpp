@@ -62,6 +62,32 @@ struct PackageWriter::Impl {
         position += bytes.size();
     }
 
+    void checkNewKey(uint32_t type, uint32_t frame, const std::string& name) const {
+        if (keys.contains(sectionKey(type, frame)))
+            throw PackageError(ErrorCode::InvalidArgument, destination, name + " was already added");
+        if (index.size() >= UINT32_MAX) throw PackageError(ErrorCode::InvalidArgument, destination, "too many sections");
+    }
+
+    // Writes one section's stored bytes, padded, and its index entry.
+    SectionInfo append(uint32_t type, uint32_t frame, uint32_t flags, Codec codec, std::span<const std::byte> stored,
+                       uint64_t raw_size, const std::string& name) {
+        IndexEntry entry{};
+        entry.type = type;
+        entry.frame = frame;
+        entry.flags = flags;
+        entry.codec = static_cast<uint32_t>(codec);
+        entry.offset = position;
+        entry.stored_size = stored.size();
+        entry.raw_size = raw_size;
+        entry.checksum = detail::checksum64(stored);
+        writeAll(stored, name);
+        padToAlignment();
+        index.push_back(entry);
+        keys.insert(sectionKey(type, frame));
+        return SectionInfo{entry.type, entry.frame, entry.flags, codec, entry.offset, entry.stored_size, entry.raw_size,
+                           entry.checksum};
+    }
+
     void padToAlignment() { writeAll(std::span(kZeros).first(alignUp(position) - position), "padding"); }
 
     std::filesystem::path destination;
@@ -114,31 +140,26 @@ SectionInfo PackageWriter::addSection(uint32_t type, uint32_t frame, std::span<c
         throw PackageError(ErrorCode::InvalidArgument, writer.destination,
                            name + ": unknown codec " + std::to_string(static_cast<uint32_t>(codec)));
     }
-    if (writer.keys.contains(sectionKey(type, frame))) {
-        throw PackageError(ErrorCode::InvalidArgument, writer.destination, name + " was already added");
-    }
-    if (writer.index.size() >= UINT32_MAX) {
-        throw PackageError(ErrorCode::InvalidArgument, writer.destination, "too many sections");
-    }
+    writer.checkNewKey(type, frame, name);
     const std::span<const std::byte> stored =
         codec == Codec::Zstd ? writer.compressor.compress(raw, name) : raw;
+    return writer.append(type, frame, required ? kSectionRequired : 0u, codec, stored, raw.size(), name);
+}
 
-    IndexEntry entry{};
-    entry.type = type;
-    entry.frame = frame;
-    entry.flags = required ? kSectionRequired : 0u;
-    entry.codec = static_cast<uint32_t>(codec);
-    entry.offset = writer.position;
-    entry.stored_size = stored.size();
-    entry.raw_size = raw.size();
-    entry.checksum = detail::checksum64(stored);
-    writer.writeAll(stored, name);
-    writer.padToAlignment();
-    writer.index.push_back(entry);
-    writer.keys.insert(sectionKey(type, frame));
-
-    return SectionInfo{entry.type,   entry.frame,       entry.flags,    codec,
-                       entry.offset, entry.stored_size, entry.raw_size, entry.checksum};
+SectionInfo PackageWriter::addStoredSection(const SectionInfo& section, std::span<const std::byte> stored) {
+    Impl& writer = impl("addStoredSection");
+    const std::string name = detail::sectionName(section.type, section.frame);
+    if (section.codec != Codec::Raw && section.codec != Codec::Zstd) {
+        throw PackageError(ErrorCode::InvalidArgument, writer.destination,
+                           name + ": unknown codec " + std::to_string(static_cast<uint32_t>(section.codec)));
+    }
+    if (stored.size() != section.stored_size || detail::checksum64(stored) != section.checksum ||
+        (section.codec == Codec::Raw && section.raw_size != section.stored_size)) {
+        throw PackageError(ErrorCode::Corrupt, writer.destination,
+                           name + ": the stored bytes given do not match their index entry");
+    }
+    writer.checkNewKey(section.type, section.frame, name);
+    return writer.append(section.type, section.frame, section.flags, section.codec, stored, section.raw_size, name);
 }
 
 SectionInfo PackageWriter::addMetadata(std::string_view json) {
