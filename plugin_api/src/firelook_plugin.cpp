@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "gpu_layers.h"
 #include "look/look.h"
 #include "result_table.h"
 #include "struct_rule.h"
@@ -179,6 +180,14 @@ WorldInstance findInstance(fl_world w, fl_instance i) {
         throw runtime::InvalidHandle("invalid instance handle " + std::to_string(i.id) + ": it belongs to another world (" +
                                      std::to_string(record.world) + "), not to world " + std::to_string(w.id));
     return {world, record.handle};
+}
+
+// Adds a look to the pool (the handle goes to *out).
+void addLook(std::shared_ptr<const Look> look, fl_look* out) {
+    Context& c = context();
+    std::lock_guard lock(c.mutex);
+    requireInit(c);
+    out->id = c.looks.add(std::move(look));
 }
 
 void checkFinite(double v, const char* what) {
@@ -459,6 +468,57 @@ FIRELOOK_API fl_result fl_package_get_frame_depths(fl_package h, int32_t frame, 
     });
 }
 
+FIRELOOK_API fl_result fl_package_get_camera(fl_package h, fl_camera* out) {
+    return guarded("fl_package_get_camera", [&] {
+        checkStruct(out, "out_camera");
+        const auto p = findPackage(h);
+        const runtime::PackageCamera* camera = p->camera();
+        if (!camera) {
+            if (!p->cameraProblem().empty()) fail(FL_ERROR_CORRUPT, p->cameraProblem());
+            fail(FL_ERROR_NOT_FOUND, p->name() + ": the package records no camera (its META has no \"camera\")");
+        }
+        fl_camera c = {};
+        c.width = camera->width;
+        c.height = camera->height;
+        c.yfov_radians = camera->yfov_radians;  // finite and the matrix too: readPackageCamera checks
+        std::copy(camera->world_from_camera.begin(), camera->world_from_camera.end(), c.world_from_camera);
+        writeOut(out, c);
+    });
+}
+
+FIRELOOK_API fl_result fl_package_get_lights(fl_package h, double* directions, float* irradiance, uint32_t capacity,
+                                             uint32_t* out_count) {
+    return guarded("fl_package_get_lights", [&] {
+        const auto p = findPackage(h);
+        const std::vector<glm::dvec3>& d = p->description().light_directions;
+        const std::vector<Rgb>& e = p->defaultLook().light_irradiance;  // one per light (resolveLook checked)
+        const uint32_t n = static_cast<uint32_t>(d.size());
+        if (out_count) *out_count = n;
+        if (!directions && !irradiance) return;
+        checkCapacity(capacity, n, "entries");
+        // Every direction checked before anything is written: a failed call writes nothing.
+        std::vector<double> unit(3 * size_t{n});
+        for (uint32_t l = 0; l < n; ++l) {
+            const double length = std::sqrt(d[l].x * d[l].x + d[l].y * d[l].y + d[l].z * d[l].z);
+            if (!std::isfinite(length) || !(length > 0.0))  // a guard: Package::open refuses such lights
+                fail(FL_ERROR_CORRUPT, p->name() + ": light " + std::to_string(l) +
+                                           "'s direction is zero or not finite");
+            for (int i = 0; i < 3; ++i) unit[3 * l + i] = d[l][i] / length;
+        }
+        if (directions) std::copy(unit.begin(), unit.end(), directions);
+        if (irradiance)
+            for (uint32_t l = 0; l < n; ++l)
+                for (int c = 0; c < 3; ++c) irradiance[3 * l + c] = e[l][c];
+    });
+}
+
+FIRELOOK_API fl_result fl_package_get_metadata_json(fl_package h, char* buffer, size_t capacity, size_t* out_size) {
+    return guarded("fl_package_get_metadata_json", [&] {
+        const auto p = findPackage(h);
+        writeText(p->basis().metadataJson(), buffer, capacity, out_size);
+    });
+}
+
 // ---- looks --------------------------------------------------------------------
 
 FIRELOOK_API fl_result fl_look_from_json(const char* json, size_t length, const char* source_name, fl_look* out) {
@@ -467,11 +527,7 @@ FIRELOOK_API fl_result fl_look_from_json(const char* json, size_t length, const 
         checkPointer(out, "out_look");
         out->id = 0;
         const std::string_view text(json, length ? length : std::strlen(json));
-        auto look = std::make_shared<const Look>(parseLook(text, source_name ? source_name : "look"));
-        Context& c = context();
-        std::lock_guard lock(c.mutex);
-        requireInit(c);
-        out->id = c.looks.add(std::move(look));
+        addLook(std::make_shared<const Look>(parseLook(text, source_name ? source_name : "look")), out);
     });
 }
 
@@ -480,12 +536,7 @@ FIRELOOK_API fl_result fl_package_default_look(fl_package h, fl_look* out) {
         checkPointer(out, "out_look");
         out->id = 0;
         const auto p = findPackage(h);
-        auto look = std::make_shared<const Look>(
-            parseLook(p->description().default_look_json, p->name() + " (default look)"));
-        Context& c = context();
-        std::lock_guard lock(c.mutex);
-        requireInit(c);
-        out->id = c.looks.add(std::move(look));
+        addLook(std::make_shared<const Look>(p->defaultLook()), out);  // parsed once, by Package::open
     });
 }
 
@@ -501,6 +552,26 @@ FIRELOOK_API fl_result fl_look_release(fl_look h) {
 
 FIRELOOK_API fl_result fl_look_to_json(fl_look h, char* buffer, size_t capacity, size_t* out_size) {
     return guarded("fl_look_to_json", [&] { writeText(lookToJson(*findLook(h)), buffer, capacity, out_size); });
+}
+
+FIRELOOK_API fl_result fl_look_get_bin_emissivity(fl_look lh, fl_package ph, float* rgb, uint32_t capacity,
+                                                  uint32_t* out_count) {
+    return guarded("fl_look_get_bin_emissivity", [&] {
+        const auto look = findLook(lh);
+        const auto p = findPackage(ph);
+        const TemperatureBins& bins = p->description().bins;
+        const uint32_t n = static_cast<uint32_t>(bins.count);
+        if (out_count) *out_count = n;
+        if (!rgb) return;
+        checkCapacity(capacity, n, "bins");
+        const std::vector<Rgb> e = resolveBinEmissivity(*look, bins);  // LookError: a bins form of another count
+        for (const Rgb& v : e)
+            for (int c = 0; c < 3; ++c)
+                if (!std::isfinite(v[c]))  // looks are validated finite; a guard, as nothing non-finite leaves
+                    fail(FL_ERROR_LOOK, look->source_name + ": the emission is not finite at a bin centre");
+        for (uint32_t i = 0; i < n; ++i)
+            for (int c = 0; c < 3; ++c) rgb[3 * i + c] = e[i][c];
+    });
 }
 
 // ---- worlds -------------------------------------------------------------------
@@ -738,6 +809,54 @@ FIRELOOK_API fl_result fl_instance_get_image(fl_world w, fl_instance i, float* r
 
 FIRELOOK_API fl_result fl_instance_get_flare(fl_world w, fl_instance i, float* rgba, size_t capacity) {
     return copyImage("fl_instance_get_flare", w, i, rgba, capacity, true);
+}
+
+FIRELOOK_API fl_result fl_instance_get_look(fl_world w, fl_instance i, fl_look* out) {
+    return guarded("fl_instance_get_look", [&] {
+        checkPointer(out, "out_look");
+        out->id = 0;
+        const WorldInstance wi = findInstance(w, i);
+        addLook(std::make_shared<const Look>(wi.world.look(wi.instance)), out);
+    });
+}
+
+namespace {
+// The frame the instance's last update showed, from the world's cache.
+const basis::ResidentFrame& shownFrame(const WorldInstance& wi) {
+    const basis::ResidentFrame* frame = wi.world.shownFrame(wi.instance);
+    if (!frame || !frame->depth_table)
+        fail(FL_ERROR_NO_DATA, "no fl_world_update since the instance was created or its outputs were set");
+    return *frame;
+}
+}  // namespace
+
+FIRELOOK_API fl_result fl_instance_get_frame_u(fl_world w, fl_instance i, uint16_t* buffer, size_t capacity,
+                                               size_t* out_count) {
+    return guarded("fl_instance_get_frame_u", [&] {
+        const WorldInstance wi = findInstance(w, i);
+        const basis::ResidentFrame& frame = shownFrame(wi);
+        const size_t needed = plugin::uLayerElements(frame.rank, static_cast<size_t>(frame.pixels));
+        if (out_count) *out_count = needed;
+        if (capacity == 0 && !buffer) return;
+        checkPointer(buffer, "buffer");
+        checkCapacity(capacity, needed, "uint16_t elements");
+        plugin::writeULayers(frame, buffer);
+    });
+}
+
+FIRELOOK_API fl_result fl_instance_get_frame_depths(fl_world w, fl_instance i, float* buffer, size_t capacity,
+                                                    size_t* out_count) {
+    return guarded("fl_instance_get_frame_depths", [&] {
+        const WorldInstance wi = findInstance(w, i);
+        const basis::ResidentFrame& frame = shownFrame(wi);
+        const basis::BakeDescription& d = wi.world.package(wi.instance).description();
+        const size_t needed = plugin::depthLayerFloats(d);
+        if (out_count) *out_count = needed;
+        if (capacity == 0 && !buffer) return;
+        checkPointer(buffer, "buffer");
+        checkCapacity(capacity, needed, "floats");
+        plugin::writeDepthLayers(d, frame, buffer);
+    });
 }
 
 }  // extern "C"

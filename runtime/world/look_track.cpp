@@ -15,6 +15,7 @@ ResolvedLook resolveLook(const Look& look, const basis::BakeDescription& d) {
     // makeLookModel checks everything else (ranges, bin and light counts) and fits.
     const LookModel model = makeLookModel(look, d.bins, d.rbf_width, d.light_directions);
     ResolvedLook r;
+    r.source = look;
     r.extinction = look.extinction();
     r.emissivity = resolveBinEmissivity(look, d.bins);
     r.rbf = model.emission.coefficients;
@@ -49,6 +50,30 @@ void sampleKeyframes(std::span<const Keyframe> keys, double frame, ExtinctionPar
     extinction_out.flame_extinction = lerp(a.extinction.flame_extinction, b.extinction.flame_extinction);
     for (size_t i = 0; i < a.rbf.size(); ++i) rbf_out[i] = s * a.rbf[i] + u * b.rbf[i];
     for (size_t l = 0; l < a.lights.size(); ++l) lights_out[l] = s * a.lights[l] + u * b.lights[l];
+}
+
+Look sampledLook(std::span<const Keyframe> keys, double frame, const basis::BakeDescription& d) {
+    const KeyframeBracket bracket = bracketKeyframes(keys, frame);
+    if (bracket.lo == bracket.hi) return keys[bracket.lo].look.source;
+    // The very numbers the world uses (sampleKeyframes), then the emission they make at the centres.
+    ExtinctionParams extinction;
+    EmissionFunction emission;
+    emission.basis.bins = d.bins;
+    emission.basis.width_in_bins = d.rbf_width;
+    emission.coefficients.resize(static_cast<size_t>(d.bins.count));
+    std::vector<Rgb> lights(keys[bracket.lo].look.lights.size());
+    sampleKeyframes(keys, frame, extinction, emission.coefficients.data(), lights.data());
+    Look look;
+    look.temperature_threshold = extinction.temperature_threshold;
+    look.smoke_extinction = extinction.smoke_extinction;
+    look.flame_extinction = extinction.flame_extinction;
+    look.albedo = keys[bracket.lo].look.source.albedo;  // equal in every key (resolveLook)
+    EmissionBins bins;
+    for (int j = 0; j < d.bins.count; ++j) bins.emissivity.push_back(emission.evaluate(d.bins.center(j)));
+    look.emission = std::move(bins);
+    look.light_irradiance = std::move(lights);
+    look.source_name = "the look interpolated at frame " + std::to_string(frame);
+    return look;
 }
 
 }  // namespace firelook::runtime

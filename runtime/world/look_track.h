@@ -26,6 +26,7 @@
 namespace firelook::runtime {
 
 struct ResolvedLook {
+    Look source;  // the look as given (what an instance held at this key reports: World::look)
     ExtinctionParams extinction;
     std::vector<Rgb> emissivity;  // e_i at the bin centres
     std::vector<Rgb> rbf;         // fitted c_i, >= 0
@@ -53,5 +54,13 @@ struct Keyframe {
 // Allocation-free.
 void sampleKeyframes(std::span<const Keyframe> keys, double frame, ExtinctionParams& extinction_out,
                      Rgb* rbf_out, Rgb* lights_out);
+
+// The look sampleKeyframes() produces at `frame`, as a Look: where one key holds, that key's own
+// look (its source, emission form included); between keys, T_c, k_s, k_f and the lights as
+// sampleKeyframes() blends them and the emission as "bins": the blended RBF coefficients evaluated
+// at each bin centre. Those coefficients are non-negative, so fitting that emissivity gives them
+// back (the exact interpolant, up to float rounding): the Look describes the image the instance
+// shows even where a key needed the non-negative fit. Allocates.
+Look sampledLook(std::span<const Keyframe> keys, double frame, const basis::BakeDescription& description);
 
 }  // namespace firelook::runtime

@@ -60,9 +60,14 @@ std::shared_ptr<const Package> Package::checked(basis::BasisPackage package) {
             corrupt("frame " + std::to_string(p->frame_numbers_[i]) + " is listed twice");
     for (int r : p->frame_ranks_)
         if (r < 0) corrupt("a frame has a negative rank");
-    // The default look must be usable as is (it is every instance's initial look).
-    const Look look = parseLook(d.default_look_json, p->name_ + " (default look)");
-    makeLookModel(look, d.bins, d.rbf_width, d.light_directions);
+    // The default look must be usable as is (it is every instance's initial look): parsed and
+    // fitted here, once for the package's lifetime.
+    p->default_look_ = resolveLook(parseLook(d.default_look_json, p->name_ + " (default look)"), d);
+    try {
+        p->camera_ = readPackageCamera(p->package_.metadataJson(), p->name_);
+    } catch (const Error& e) {
+        p->camera_problem_ = e.what();
+    }
     return p;
 }
 

@@ -7,11 +7,15 @@
 #include <cstddef>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "basis/basis_package.h"
+#include "look/look.h"
+#include "world/look_track.h"
+#include "world/package_camera.h"
 
 namespace firelook::runtime {
 
@@ -40,6 +44,15 @@ class Package {
     int frameNumber(int slot) const { return frame_numbers_[slot]; }
     int frameRank(int slot) const { return frame_ranks_[slot]; }
     int maxRank() const { return max_rank_; }
+
+    // The default look, parsed and fitted once here: every instance starts from resolvedDefaultLook()
+    // (World::create) and fl_package_default_look copies defaultLook().
+    const Look& defaultLook() const { return default_look_.source; }
+    const ResolvedLook& resolvedDefaultLook() const { return default_look_; }
+    // The camera recorded in META, read at open: null when the package records none; a malformed
+    // one does not stop the package from playing, cameraProblem() then says what is wrong.
+    const PackageCamera* camera() const { return camera_ ? &*camera_ : nullptr; }
+    const std::string& cameraProblem() const { return camera_problem_; }
     // Slot of the last baked frame whose number is <= frame_number (the first
     // slot if none); -1 only for an empty package (open() refuses those).
     int slotAtOrBelow(double frame_number) const;
@@ -65,6 +78,9 @@ class Package {
     std::vector<int> frame_numbers_;
     std::vector<int> frame_ranks_;
     int max_rank_ = 0;
+    ResolvedLook default_look_;
+    std::optional<PackageCamera> camera_;
+    std::string camera_problem_;
 };
 
 }  // namespace firelook::runtime

@@ -98,8 +98,7 @@ void World::ensureStrides(const Package& p) {
 
 InstanceHandle World::create(std::shared_ptr<const Package> package) {
     if (!package) throw std::invalid_argument("create: null package");
-    const basis::BakeDescription& d = package->description();
-    Keyframe key{0.0, resolveLook(parseLook(d.default_look_json, package->name() + " (default look)"), d)};
+    Keyframe key{0.0, package->resolvedDefaultLook()};  // parsed and fitted once, by Package::open
     handles_.requireRoom();  // before anything changes
 
     ensureStrides(*package);  // may relayout; harmless if a later step throws
@@ -374,6 +373,23 @@ InstanceState World::state(InstanceHandle h) const {
     s.image = s.updated && outputs_[i].image ? image_[i].data() : nullptr;
     s.flare = s.updated && outputs_[i].lens_flare ? flare_[i].data() : nullptr;
     return s;
+}
+
+}  // namespace firelook::runtime
+
+namespace firelook::runtime {
+
+Look World::look(InstanceHandle h) const {
+    const int i = denseIndex(h);
+    return sampledLook(keys_[i], frame_position_[i], packages_[package_index_[i]].package->description());
+}
+
+// Frames used by an update are never evicted before the next update (trimCache), so the shown
+// frame is resident whenever the instance is updated.
+const basis::ResidentFrame* World::shownFrame(InstanceHandle h) const {
+    const int i = denseIndex(h);
+    if (!updated_[i]) return nullptr;
+    return packages_[package_index_[i]].frames[frame_slot_[i]].frame.get();
 }
 
 }  // namespace firelook::runtime

@@ -135,6 +135,20 @@ void FireSession::update(double dt) {
           "fl_instance_get_coefficients");
 }
 
+std::string FireSession::shownLookJson() const {
+    fl_look look{};
+    check(fl_instance_get_look(world_, instance_, &look), "fl_instance_get_look");
+    size_t size = 0;
+    fl_result result = fl_look_to_json(look, nullptr, 0, &size);
+    std::string text(size, '\0');
+    if (result == FL_OK) result = fl_look_to_json(look, text.data(), text.size(), &size);
+    const std::string error = fl_last_error();  // fl_look_release would clear it
+    fl_look_release(look);
+    if (result != FL_OK) throw ViewerError(error + " (" + fl_result_string(result) + ")");
+    text.resize(size > 0 ? size - 1 : 0);  // drop the NUL
+    return text;
+}
+
 void FireSession::readImage(std::vector<float>& rgba) const {
     rgba.resize(static_cast<size_t>(info_.width) * info_.height * 4);
     check(fl_instance_get_image(world_, instance_, rgba.data(), rgba.size()), "fl_instance_get_image");

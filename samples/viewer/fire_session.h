@@ -41,6 +41,8 @@ class FireSession {
 
     const std::string& path() const { return path_; }
     fl_package package() const { return package_; }
+    fl_world world() const { return world_; }
+    fl_instance instance() const { return instance_; }
     const fl_package_info& info() const { return info_; }
     const std::vector<int>& frames() const { return frames_; }
     const std::vector<int>& ranks() const { return ranks_; }
@@ -73,6 +75,9 @@ class FireSession {
     // One fl_world_update, then the state and coefficients are read back.
     void update(double dt);
     const fl_instance_state& state() const { return state_; }
+    // Look-file JSON of the look the instance shows at the last update's frame position: the edited
+    // look, or while keys play the library's interpolation of them (fl_instance_get_look).
+    std::string shownLookJson() const;
     const std::vector<float>& coefficients() const { return z_; }  // rank x 3
     // The CPU image / flare of the last update (width x height x 4 floats). Throws if not enabled.
     void readImage(std::vector<float>& rgba) const;

@@ -11,7 +11,7 @@ namespace {
 const char* kFragmentShader = R"(
 // Layouts (repacked on upload so each texel fetch serves four values, which is what makes the
 // pass fast on llvmpipe and cheap anywhere):
-//   u_factors: layer l, channel c = U[p][4 l + c] (0 beyond the rank), as fl_package_get_frame_u;
+//   u_factors: layer l, channel c = U[p][4 l + c] (0 beyond the rank), as fl_instance_get_frame_u;
 //   z[3 l + ch] = (z[4 l][ch], z[4 l + 1][ch], z[4 l + 2][ch], z[4 l + 3][ch]);
 //   u_depths: G = ceil(S / 4) groups of four footprint samples per texel; layers 0..G-1 hold
 //   O_b, layer G + j G + g holds O_a(., j) of group g; u_last_mask zeroes the padding samples.
@@ -52,8 +52,9 @@ void main() {
 
 }  // namespace
 
-GpuReconstruction::GpuReconstruction(fl_package package, const fl_package_info& info, size_t cache_bytes)
-    : package_(package), info_(info), cache_bytes_(cache_bytes) {
+GpuReconstruction::GpuReconstruction(fl_world world, fl_instance instance, const fl_package_info& info,
+                                     size_t cache_bytes)
+    : world_(world), instance_(instance), info_(info), cache_bytes_(cache_bytes) {
     max_layers_ = std::max(1, (info.max_rank + 3) / 4);
     groups_ = (info.footprint_samples + 3) / 4;
     const int depth_layers = groups_ * (1 + info.alpha_threshold_count);
@@ -114,12 +115,13 @@ GpuReconstruction::FrameTextures& GpuReconstruction::resident(int frame, bool& u
     FrameTextures t;
     t.frame = frame;
 
-    // U as the API hands it out: already RGBA16F layers.
+    // U as the API hands it out: already RGBA16F layers, from the frame the world holds for the
+    // instance (the frame its last update showed, which is `frame`: see prepareFrame).
     size_t count = 0;
-    check(fl_package_get_frame_u(package_, frame, nullptr, 0, &count), "fl_package_get_frame_u");
+    check(fl_instance_get_frame_u(world_, instance_, nullptr, 0, &count), "fl_instance_get_frame_u");
     u_buffer_.resize(count);
-    check(fl_package_get_frame_u(package_, frame, u_buffer_.data(), u_buffer_.size(), &count),
-          "fl_package_get_frame_u");
+    check(fl_instance_get_frame_u(world_, instance_, u_buffer_.data(), u_buffer_.size(), &count),
+          "fl_instance_get_frame_u");
     t.layers = static_cast<int>(count / (pixels * 4));
     t.u.create(GL_TEXTURE_2D_ARRAY);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
@@ -128,10 +130,10 @@ GpuReconstruction::FrameTextures& GpuReconstruction::resident(int frame, bool& u
 
     // Optical depths: S single-channel O_b layers then S x T O_a layers (sample-major), regrouped
     // four samples to a texel (see the shader). Values are copied, never changed.
-    check(fl_package_get_frame_depths(package_, frame, nullptr, 0, &count), "fl_package_get_frame_depths");
+    check(fl_instance_get_frame_depths(world_, instance_, nullptr, 0, &count), "fl_instance_get_frame_depths");
     depth_buffer_.resize(count);
-    check(fl_package_get_frame_depths(package_, frame, depth_buffer_.data(), depth_buffer_.size(), &count),
-          "fl_package_get_frame_depths");
+    check(fl_instance_get_frame_depths(world_, instance_, depth_buffer_.data(), depth_buffer_.size(), &count),
+          "fl_instance_get_frame_depths");
     const int samples = info_.footprint_samples, thresholds = info_.alpha_threshold_count;
     const int layers = groups_ * (1 + thresholds);
     depth_packed_.assign(static_cast<size_t>(layers) * pixels * 4, 0.0f);
@@ -162,9 +164,9 @@ GpuReconstruction::FrameTextures& GpuReconstruction::resident(int frame, bool& u
     return cache_.front();
 }
 
-bool GpuReconstruction::prepareFrame(int frame) {
+bool GpuReconstruction::prepareFrame(const fl_instance_state& state) {
     bool uploaded = false;
-    resident(frame, uploaded);
+    resident(state.frame, uploaded);
     return uploaded;
 }
 

@@ -4,9 +4,10 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <iterator>
 #include <nlohmann/json.hpp>
 
-#include "basis/basis_package.h"
+#include "fl_check.h"
 #include "look/look.h"
 #include "render/camera.h"
 #include "render/medium.h"
@@ -24,20 +25,38 @@ bool sequenceExists(const std::filesystem::path& p) {
     return p.string().find('#') != std::string::npos && std::filesystem::is_directory(p.parent_path(), e);
 }
 
-render::Camera cameraFromMetadata(const nlohmann::json& meta, const std::string& package) {
-    if (!meta.contains("camera")) throw std::runtime_error(package + ": no camera recorded in the package");
-    const nlohmann::json& c = meta["camera"];
+render::Camera cameraOf(const fl_camera& c) {
     render::CameraParameters p;
-    const auto m = c.at("world_from_camera").get<std::vector<double>>();
-    if (m.size() != 16) throw std::runtime_error(package + ": camera.world_from_camera must have 16 numbers");
-    std::copy(m.begin(), m.end(), p.world_from_camera.begin());
-    p.yfov_radians = c.at("yfov_radians").get<double>();
-    p.width = c.at("width").get<int>();
-    p.height = c.at("height").get<int>();
+    std::copy(std::begin(c.world_from_camera), std::end(c.world_from_camera), p.world_from_camera.begin());
+    p.yfov_radians = c.yfov_radians;
+    p.width = c.width;
+    p.height = c.height;
     return render::Camera(p);
 }
 
 }  // namespace
+
+ReferenceScene readReferenceScene(fl_package package, const fl_package_info& info) {
+    ReferenceScene scene;
+    check(fl_package_get_camera(package, &scene.camera), "fl_package_get_camera");
+    uint32_t count = 0;
+    check(fl_package_get_lights(package, nullptr, nullptr, 0, &count), "fl_package_get_lights");
+    std::vector<double> directions(3 * size_t{count});
+    if (count > 0)
+        check(fl_package_get_lights(package, directions.data(), nullptr, count, &count), "fl_package_get_lights");
+    for (uint32_t l = 0; l < count; ++l)
+        scene.light_directions.push_back({directions[3 * l], directions[3 * l + 1], directions[3 * l + 2]});
+    scene.temperature_lo = info.temperature_lo;
+    scene.temperature_hi = info.temperature_hi;
+    scene.bin_count = info.bin_count;
+    scene.rbf_width = info.rbf_width;
+    size_t size = 0;
+    check(fl_package_get_metadata_json(package, nullptr, 0, &size), "fl_package_get_metadata_json");
+    scene.metadata_json.assign(size, '\0');
+    check(fl_package_get_metadata_json(package, scene.metadata_json.data(), size, &size), "fl_package_get_metadata_json");
+    scene.metadata_json.resize(size > 0 ? size - 1 : 0);
+    return scene;
+}
 
 std::string resolveSequencePath(const std::string& recorded, const std::string& package_path) {
     if (recorded.empty()) return {};
@@ -90,11 +109,10 @@ void ReferenceWorker::run(ReferenceRequest request) {
     s.target_spp = request.target_spp;
     const auto start = std::chrono::steady_clock::now();
     try {
-        // Everything the bake used: camera, sequence and grid mapping (META), bins and lights.
-        const basis::BasisPackage package = basis::BasisPackage::open(request.package_path);
-        const basis::BakeDescription& d = package.description();
-        const nlohmann::json meta = nlohmann::json::parse(package.metadataJson());
-        const render::Camera camera = cameraFromMetadata(meta, request.package_path);
+        // Everything the bake used: camera, bins and lights (C API), sequence and grid mapping (META).
+        const ReferenceScene& scene = request.scene;
+        const render::Camera camera = cameraOf(scene.camera);
+        const nlohmann::json meta = nlohmann::json::parse(scene.metadata_json);
         const nlohmann::json provenance = meta.value("provenance", nlohmann::json::object());
         const std::string recorded = provenance.value("sequence", std::string());
         s.sequence_path = request.sequence_override.empty() ? resolveSequencePath(recorded, request.package_path)
@@ -118,7 +136,13 @@ void ReferenceWorker::run(ReferenceRequest request) {
                                           : render::Medium(dense.origin, dense.dims, dense.density,
                                                            dense.temperature, dense.index_to_world, 0.0f);
         const Look look = parseLook(request.look_json, "QA look");
-        const LookModel model = makeLookModel(look, d.bins, d.rbf_width, d.light_directions);
+        TemperatureBins bins;
+        bins.t_lo = scene.temperature_lo;
+        bins.t_hi = scene.temperature_hi;
+        bins.count = scene.bin_count;
+        std::vector<glm::dvec3> lights;
+        for (const auto& l : scene.light_directions) lights.emplace_back(l[0], l[1], l[2]);
+        const LookModel model = makeLookModel(look, bins, scene.rbf_width, lights);
 
         render::ReferenceSettings settings;
         settings.samples_per_pixel = request.spp_per_pass;

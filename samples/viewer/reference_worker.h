@@ -2,12 +2,13 @@
 // background thread, refined progressively: passes of a few samples per pixel with different seeds
 // are averaged, and every pass publishes the running mean so the UI shows the image as it clears.
 //
-// The package records what a reference needs (META: the camera, the sequence path and grid
-// mapping under "provenance"; the bake description: bins, RBF width, lights). The C API exposes
-// none of it, so this worker reads the package with firelook::basis and the sequence with
-// firelook::vdb; the real-time path never touches those libraries.
+// The package records what a reference needs; the UI thread reads it through the C API
+// (readReferenceScene: camera, light directions, bins, RBF width, and META's "provenance" for the
+// sequence path and grid mapping), so the worker only reads the sequence (firelook::vdb) and
+// traces (firelook::render). No second copy of the package reader is in the process.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <mutex>
@@ -15,10 +16,26 @@
 #include <thread>
 #include <vector>
 
+#include "firelook/firelook.h"
+
 namespace firelook::viewer {
 
+// What the bake used, as the C API gives it.
+struct ReferenceScene {
+    fl_camera camera = fl_camera_defaults();
+    std::vector<std::array<double, 3>> light_directions;  // unit, the direction each light travels
+    double temperature_lo = 0.0, temperature_hi = 1.0;
+    int bin_count = 0;
+    double rbf_width = 0.0;
+    std::string metadata_json;  // META: "provenance" names the sequence and its grids
+};
+
+// Throws ViewerError with the library's message (e.g. a package that records no camera).
+ReferenceScene readReferenceScene(fl_package package, const fl_package_info& info);
+
 struct ReferenceRequest {
-    std::string package_path;
+    ReferenceScene scene;
+    std::string package_path;  // for finding a relative sequence, and messages
     std::string sequence_override;  // empty: the sequence recorded in the package
     int frame = 0;
     std::string look_json;  // a look document (what is shown at that frame)

@@ -97,7 +97,7 @@ void emissionModeSwitch(ViewerApp& app, FireSession& s, LookEdit& look, Emission
             look.preset = presetNames().front();
             look.preset_scale = 1.0;
         } else {
-            const std::vector<Rgb3> bins = resolveBins(look, info);
+            const std::vector<Rgb3> bins = resolveBins(look, s.package());
             if (mode == EmissionMode::Bins) {
                 look.bins = bins;
             } else {

@@ -6,7 +6,6 @@
 #include <filesystem>
 
 #include "fl_check.h"
-#include "look_resolution.h"
 #include "text_file.h"
 
 namespace firelook::viewer {
@@ -50,7 +49,7 @@ void ViewerApp::resetGpu() {
     gpu_.reset();
     gpu_error_.clear();
     try {
-        gpu_ = std::make_unique<GpuReconstruction>(session_->package(), session_->info());
+        gpu_ = std::make_unique<GpuReconstruction>(session_->world(), session_->instance(), session_->info());
     } catch (const std::exception& e) {
         gpu_error_ = e.what();
         setStatus(gpu_error_ + " - using the CPU path", true);
@@ -127,7 +126,7 @@ void ViewerApp::step(double dt) {
         // 2. Upload.
         start = Clock::now();
         if (gpu || both) {
-            gpu_->prepareFrame(state.frame);
+            gpu_->prepareFrame(state);
             gpu_->uploadCoefficients(session_->coefficients(), state.rank);
         }
         if (!gpu || both) cpu_.upload(*session_, cpu_result_);
@@ -306,12 +305,12 @@ void ViewerApp::startQa() {
     try {
         const fl_instance_state& state = session_->state();
         ReferenceRequest request = qa_settings;
+        request.scene = readReferenceScene(session_->package(), session_->info());
         request.package_path = session_->path();
         request.frame = state.frame;
-        // The look shown at this frame: the edited one, or the keyed one while keys play.
-        request.look_json = session_->animateKeys() && !session_->keys().empty()
-                                ? keyedLookJson(session_->keys(), state.frame_position, session_->info())
-                                : lookEditToJson(session_->look());
+        // The look shown at this frame: the edited one, or the library's interpolation while keys play.
+        request.look_json = session_->animateKeys() && !session_->keys().empty() ? session_->shownLookJson()
+                                                                                 : lookEditToJson(session_->look());
         readResult(qa_realtime_);  // the real-time image it will be compared with
         qa_frame_ = state.frame;
         qa_look_json_ = request.look_json;

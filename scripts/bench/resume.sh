@@ -3,7 +3,8 @@
 # resumed (`--resume`), against an uninterrupted bake with the same settings. Prints whether the
 # packages are identical (cmp), the frames the resumed run reused, its wall time, and the time the
 # uninterrupted bake spent on the frames the resumed run had to bake (trace + SVD seconds, from its
-# --report), with the ratio of the two.
+# --report), with the ratio of the two; and, less exposed to a machine whose load changes between the
+# two bakes, the resumed run's wall time against its own time on those frames (its overhead).
 #   scripts/bench/resume.sh [SEQUENCE] [OUT]
 # Environment: KEEP (5), SIZE (128x128), UP (z), FIRELOOK (build/release's by default, built first
 # when unset). Every frame of SEQUENCE is baked at the default settings otherwise.
@@ -41,6 +42,8 @@ frames_of() { awk '/"frame":/ {gsub(/[^0-9]/, "", $2); f = $2} /"resumed":/ {r[f
 missing=$(frames_of "$out/resumed.json" | awk '$2 == 0 {print $1}')
 reused=$(frames_of "$out/resumed.json" | awk '$2 == 1' | wc -l)
 baked_time=$(frames_of "$out/whole.json" | awk -v list=" $(echo $missing) " 'index(list, " " $1 " ") {s += $3} END {printf "%.1f", s}')
+own_time=$(frames_of "$out/resumed.json" | awk '$2 == 0 {s += $3} END {printf "%.1f", s}')
 wall=$(echo "$end $start" | awk '{printf "%.1f", $1 - $2}')
 echo "packages: $same; resumed run reused $reused frames and baked $(echo $missing | wc -w) ($(echo $missing))"
 echo "resumed run: $wall s; the same frames in the uninterrupted bake: $baked_time s; ratio $(echo "$wall $baked_time" | awk '{printf "%.2f", $1 / $2}')"
+echo "resumed run against its own trace + SVD time on those frames ($own_time s): ratio $(echo "$wall $own_time" | awk '{printf "%.2f", $1 / $2}')"

@@ -17,6 +17,39 @@
 
 int firelook_c_smoke(const char* package_path);
 
+/* What a look editor and a GPU host read besides images: lights, the camera (the synthetic package
+   records none), a look's emissivity per bin, the look an instance shows and the shown frame's U
+   from the world's cache (the same size as the package's). */
+static int smoke_scene_and_frames(fl_package package, const fl_package_info* info, fl_world world,
+                                  fl_instance instance, fl_look look) {
+    double directions[3 * 64];
+    float irradiance[3 * 64], emissivity[3 * 256];
+    uint32_t count = 0, l;
+    size_t from_cache = 0, from_package = 0;
+    fl_camera camera = fl_camera_defaults();
+    fl_instance_state state = fl_instance_state_defaults();
+    fl_look shown = {0};
+    if (info->light_count > 64 || info->bin_count > 256) return 1;
+    CHECK(fl_package_get_lights(package, directions, irradiance, 64, &count));
+    if (count != (uint32_t)info->light_count) return 1;
+    for (l = 0; l < count; ++l) {
+        const double length = sqrt(directions[3 * l] * directions[3 * l] + directions[3 * l + 1] * directions[3 * l + 1] +
+                                   directions[3 * l + 2] * directions[3 * l + 2]);
+        if (!(fabs(length - 1.0) < 1e-12) || !isfinite(irradiance[3 * l])) return 1;
+    }
+    if (fl_package_get_camera(package, &camera) != FL_ERROR_NOT_FOUND) return 1;
+    CHECK(fl_look_get_bin_emissivity(look, package, emissivity, 256, &count));
+    if (count != (uint32_t)info->bin_count) return 1;
+    for (l = 0; l < 3 * count; ++l)
+        if (!(emissivity[l] >= 0.0f) || !isfinite(emissivity[l])) return 1;
+    CHECK(fl_instance_get_look(world, instance, &shown));
+    CHECK(fl_look_release(shown));
+    CHECK(fl_instance_get_state(world, instance, &state));
+    CHECK(fl_instance_get_frame_u(world, instance, NULL, 0, &from_cache));
+    CHECK(fl_package_get_frame_u(package, state.frame, NULL, 0, &from_package));
+    return from_cache == from_package && from_cache > 0 ? 0 : 1;
+}
+
 /* The same package read into memory, as an engine reads its archive, and loaded from there (copied,
    so the buffer is freed at once): it must describe the same package. */
 static int smoke_memory_load(const char* package_path, const fl_package_info* from_file) {
@@ -103,6 +136,7 @@ int firelook_c_smoke(const char* package_path) {
         }
     CHECK(fl_instance_get_flare(world, instance, image, floats));
     free(image);
+    if (smoke_scene_and_frames(package, &info, world, instance, look) != 0) return 8;
     if (smoke_memory_load(package_path, &info) != 0) return 7;
     CHECK(fl_instance_destroy(world, instance));
     if (fl_instance_destroy(world, instance) != FL_ERROR_INVALID_HANDLE) return 6;

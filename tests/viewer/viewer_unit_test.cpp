@@ -11,6 +11,7 @@
 
 #include "../support/temp_dir.h"
 #include "fl_check.h"
+#include "fire_session.h"
 #include "heat_map.h"
 #include "image_export.h"
 #include "keyframes_file.h"
@@ -151,7 +152,7 @@ TEST_F(ViewerUnit, EmissionFormConversionsKeepTheImage) {
         const LookEdit look = parseLookEdit(readTextFile(looksDir() + "/" + name), name);
         LookEdit bins = look;
         bins.mode = EmissionMode::Bins;
-        bins.bins = resolveBins(look, info);
+        bins.bins = resolveBins(look, package);
         ASSERT_EQ(static_cast<int>(bins.bins.size()), info.bin_count);
         LookEdit stops = look;
         stops.mode = EmissionMode::Stops;
@@ -171,18 +172,24 @@ TEST_F(ViewerUnit, EmissionFormConversionsKeepTheImage) {
     fl_package_release(package);
 }
 
+// The look QA renders while keys play is the one the instance shows (FireSession::shownLookJson, from
+// the library). The package's frames are 5 and 6 (positions 5 to 7); the keys sit inside that range
+// at binary fractions, so seeking (time = offset / 24 fps) lands exactly on the positions below.
 TEST_F(ViewerUnit, KeyedLookHoldsAtKeysAndBlendsBetween) {
-    fl_package package{};
-    ASSERT_EQ(fl_package_load(packagePath().c_str(), &package), FL_OK) << fl_last_error();
-    fl_package_info info = fl_package_info_defaults();
-    ASSERT_EQ(fl_package_get_info(package, &info), FL_OK);
-    fl_package_release(package);
+    std::unique_ptr<FireSession> session = FireSession::open(packagePath());
     const LookEdit a = parseLookEdit(readTextFile(looksDir() + "/fireball.json"), "a");
     const LookEdit b = parseLookEdit(readTextFile(looksDir() + "/smoky.json"), "b");
-    const std::vector<Keyframe> keys = {{5.0, a}, {7.0, b}};
-    EXPECT_EQ(parseLookEdit(keyedLookJson(keys, 4.0, info), "k"), a);
-    EXPECT_EQ(parseLookEdit(keyedLookJson(keys, 9.0, info), "k"), b);
-    const LookEdit mid = parseLookEdit(keyedLookJson(keys, 6.0, info), "k");
+    session->keys() = {{5.25, a}, {6.25, b}};
+    session->setAnimateKeys(true);
+    const auto keyedLookJson = [&](double position) {
+        session->seek(position);
+        session->update(0.0);
+        EXPECT_EQ(session->state().frame_position, position);
+        return session->shownLookJson();
+    };
+    EXPECT_EQ(parseLookEdit(keyedLookJson(5.0), "k"), a);
+    EXPECT_EQ(parseLookEdit(keyedLookJson(6.5), "k"), b);
+    const LookEdit mid = parseLookEdit(keyedLookJson(5.75), "k");
     EXPECT_DOUBLE_EQ(mid.temperature_threshold, 0.5 * (a.temperature_threshold + b.temperature_threshold));
     EXPECT_DOUBLE_EQ(mid.smoke_extinction, 0.5 * (a.smoke_extinction + b.smoke_extinction));
     EXPECT_EQ(mid.mode, EmissionMode::Bins);

@@ -18,9 +18,11 @@
       engine read from its own archive: fl_package_load_memory(), copied or
       borrowed (see there for how long borrowed bytes must live).
       fl_package_get_info() and friends describe it (frames, size, rank per
-      frame, bins, lights, parameter ranges, default look as JSON).
+      frame, bins, lights, parameter ranges, default look as JSON, the camera
+      it was baked with: fl_package_get_camera, fl_package_get_lights).
    3. Make looks from look-file JSON (fl_look_from_json) or take the
-      package's default (fl_package_default_look).
+      package's default (fl_package_default_look); fl_look_get_bin_emissivity
+      resolves a look's emission to the package's bins (for curve editors).
    4. Create a world (fl_world_create) and instances in it
       (fl_instance_create); give them looks or keyframes, playback and
       outputs.
@@ -28,7 +30,9 @@
       fl_instance_get_image() (CPU image, premultiplied linear RGBA float),
       fl_instance_get_flare(), or for GPU reconstruction
       fl_instance_get_coefficients() + fl_instance_get_state() with the
-      textures from fl_package_get_frame_u() and fl_package_get_frame_depths().
+      textures from fl_instance_get_frame_u() and fl_instance_get_frame_depths()
+      (the frame the world already holds; the fl_package_ variants decode it
+      again). fl_instance_get_look() gives the look an instance shows.
    6. Release everything and call fl_shutdown().
 
    Conventions (after sokol_gfx, OpenEXRCore, Dear ImGui and flecs):
@@ -118,7 +122,7 @@ extern "C" {
     X(FL_ERROR_BUFFER_TOO_SMALL, -12) /* the needed size is reported through the size output */          \
     X(FL_ERROR_OUT_OF_MEMORY, -13)                                                                       \
     X(FL_ERROR_NO_DATA, -14)          /* output not enabled, or no fl_world_update since it was */       \
-    X(FL_ERROR_NOT_FOUND, -15)        /* no such frame in the package */                                 \
+    X(FL_ERROR_NOT_FOUND, -15)        /* no such frame in the package, or no camera recorded in it */    \
     X(FL_ERROR_LIMIT, -16)            /* too many objects of one kind */                                 \
     X(FL_ERROR_INTERNAL, -17)         /* a bug: please report with fl_last_error() */
 
@@ -245,7 +249,8 @@ FIRELOOK_API fl_result fl_package_get_alpha_thresholds(fl_package package, doubl
 FIRELOOK_API fl_result fl_package_get_default_look_json(fl_package package, char* buffer, size_t capacity,
                                                         size_t* out_size);
 /* The frame's U for GPU reconstruction, copied into the caller's buffer (reads and decompresses the frame
-   each call: call once per upload). Layout: layers = ceil(rank / 4) RGBA16F images of width x height;
+   each call: call once per upload; fl_instance_get_frame_u takes the frame a world already holds).
+   Layout: layers = ceil(rank / 4) RGBA16F images of width x height;
    layer l, pixel (x, y), channel c holds U[pixel][4 l + c] (0 beyond the rank), IEEE half floats:
        buffer[((l * height + y) * width + x) * 4 + c]      (y = 0 is the top row)
    i.e. a 2D texture array (or a tall 2D texture of height layers * height). capacity and *out_count are
@@ -260,6 +265,36 @@ FIRELOOK_API fl_result fl_package_get_frame_u(fl_package package, int32_t frame,
 FIRELOOK_API fl_result fl_package_get_frame_depths(fl_package package, int32_t frame, float* buffer,
                                                    size_t capacity, size_t* out_count);
 
+/* The camera the package was baked with (read once when it was loaded). First published size: through
+   world_from_camera. */
+typedef struct fl_camera {
+    uint32_t struct_size;  /* in: sizeof(fl_camera); kept */
+    int32_t width, height; /* the image size it was baked at, pixels */
+    int32_t reserved;
+    double yfov_radians;   /* vertical field of view, radians, in (0, pi) */
+    /* Column-major 4x4 (glTF order): world = world_from_camera * camera. The camera sits at its local
+       origin, looks down local -Z, +Y up and +X right, in the world space of the baked volume. */
+    double world_from_camera[16];
+} fl_camera;
+
+/* Thread-safe. The package's camera; every value finite. FL_ERROR_NOT_FOUND when the package records
+   none; FL_ERROR_CORRUPT (the message names the file and the field) when the recorded one is malformed
+   (the package still plays). */
+FIRELOOK_API fl_result fl_package_get_camera(fl_package package, fl_camera* out_camera);
+/* Thread-safe. The package's directional lights (fl_package_info.light_count of them), either array may
+   be null: directions[3 l + i] the unit vector (world space, x y z) light l travels along;
+   default_irradiance[3 l + c] its RGB irradiance in the package's default look (a look's
+   light_irradiance, same units). capacity: lights available; *out_count (if not null) gets light_count.
+   (A package whose light cannot be normalised does not load: its default look is refused.) */
+FIRELOOK_API fl_result fl_package_get_lights(fl_package package, double* directions, float* default_irradiance,
+                                             uint32_t capacity, uint32_t* out_count);
+/* Thread-safe. The package's META document as JSON (docs/package-format.md: "bake", "provenance" with the
+   sequence, grid names and temperature mapping, "camera", "errors"), NUL-terminated, with the size
+   convention of fl_package_get_default_look_json. Its keys are the baker's: read it for provenance,
+   not for anything a function above gives. */
+FIRELOOK_API fl_result fl_package_get_metadata_json(fl_package package, char* buffer, size_t capacity,
+                                                    size_t* out_size);
+
 /* ---- looks -------------------------------------------------------------- */
 
 /* Thread-safe. json: a firelook-look document (docs/model.md, "The look file"); length 0 = NUL-terminated.
@@ -270,6 +305,14 @@ FIRELOOK_API fl_result fl_package_default_look(fl_package package, fl_look* out_
 FIRELOOK_API fl_result fl_look_release(fl_look look);
 /* The look as JSON (same size convention as fl_package_get_default_look_json). */
 FIRELOOK_API fl_result fl_look_to_json(fl_look look, char* buffer, size_t capacity, size_t* out_size);
+/* Thread-safe. The look's emissivity at the centre of each of the package's temperature bins, whatever
+   the look's emission form (preset, stops or bins): rgb[3 i + c] for bin i, whose centre is
+   temperature_lo + (i + 0.5) (temperature_hi - temperature_lo) / bin_count (fl_package_info); finite and
+   >= 0. A look of that emissivity in bins form renders the same image. capacity: bins available;
+   *out_count (if not null) gets bin_count; rgb null only asks for it. A bins-form look with another
+   number of bins: FL_ERROR_LOOK. */
+FIRELOOK_API fl_result fl_look_get_bin_emissivity(fl_look look, fl_package package, float* rgb, uint32_t capacity,
+                                                  uint32_t* out_count);
 
 /* ---- worlds and instances ---------------------------------------------- */
 
@@ -384,6 +427,23 @@ FIRELOOK_API fl_result fl_instance_get_coefficients(fl_world world, fl_instance 
 FIRELOOK_API fl_result fl_instance_get_image(fl_world world, fl_instance instance, float* rgba, size_t capacity);
 /* The lens flare of the last update: same size, RGBA with A = 0, to be added on top. */
 FIRELOOK_API fl_result fl_instance_get_flare(fl_world world, fl_instance instance, float* rgba, size_t capacity);
+/* A new look handle (the caller releases it) holding the look the instance shows at its frame position
+   (fl_instance_state.frame_position of the last update; the package's first frame before any): with a
+   constant look or where one keyframe holds, that look exactly as it was set (its JSON is the same);
+   between keys, T_c, k_s, k_f and the lights interpolated as the world does and the emission in bins form:
+   the interpolated emission the image is made of, at each bin centre (so a reference render of this look
+   shows what the instance shows, even where a key's emission needed the non-negative fit). A world call
+   (one thread at a time per world). */
+FIRELOOK_API fl_result fl_instance_get_look(fl_world world, fl_instance instance, fl_look* out_look);
+/* The U and optical depth layers of the frame the instance's last update showed, taken from the frame the
+   world holds for it (its frame cache): no read, no decompression. Layout, sizes, the capacity-0 size query
+   and the values are those of fl_package_get_frame_u / fl_package_get_frame_depths for that frame
+   (fl_instance_state.frame). FL_ERROR_NO_DATA until the first update after creation or after
+   fl_instance_set_outputs (the size query too). World calls (one thread at a time per world). */
+FIRELOOK_API fl_result fl_instance_get_frame_u(fl_world world, fl_instance instance, uint16_t* buffer,
+                                               size_t capacity, size_t* out_count);
+FIRELOOK_API fl_result fl_instance_get_frame_depths(fl_world world, fl_instance instance, float* buffer,
+                                                    size_t capacity, size_t* out_count);
 
 /* ---- start-up and shutdown ---------------------------------------------- */
 
@@ -447,6 +507,11 @@ FIRELOOK_INLINE fl_package_info fl_package_info_defaults(void) {
 FIRELOOK_INLINE fl_package_memory_desc fl_package_memory_desc_defaults(void) {
     fl_package_memory_desc d = FIRELOOK_ZERO;
     d.struct_size = (uint32_t)sizeof(fl_package_memory_desc);
+    return d;
+}
+FIRELOOK_INLINE fl_camera fl_camera_defaults(void) {
+    fl_camera d = FIRELOOK_ZERO;
+    d.struct_size = (uint32_t)sizeof(fl_camera);
     return d;
 }
 FIRELOOK_INLINE fl_instance_state fl_instance_state_defaults(void) {
