@@ -17,9 +17,11 @@ namespace {
 // Depths decode to at most this (the largest half, as packages of layout 1 stored): every
 // transmittance exp(-k * 65504) is 0 in float for k above 0.0016.
 constexpr double kLargestDepth = 65504.0;
-// Payload version: 2 stores every item's codes together (a pixel's rank values, a ray's depth
-// planes), so the decoder undoes the prediction of all planes at once; 1 stored plane after plane.
-constexpr uint32_t kCodecVersion = 2;
+// Payload version: 3 leaves out the items that are all zero (most pixels lie outside the fire's
+// footprint), so neither zstd nor the decoder spends time on them; 2 stored every item's codes
+// together (a pixel's rank values, a ray's depth planes), so the decoder undoes the prediction of
+// all planes at once; 1 stored plane after plane. All three are read.
+constexpr uint32_t kCodecVersion = 3;
 // U and S V^T share the basis error: each adds half of its square.
 constexpr double kPerFactor = 0.70710678118654752;
 
@@ -102,17 +104,6 @@ void predictPlane(const int16_t* values, int w, int h, const uint8_t* mask, std:
         }
 }
 
-// The inverse: fills `values` where the mask is 1 (everywhere without one); returns the next code.
-const uint16_t* unpredictPlane(const uint16_t* codes, int w, int h, const uint8_t* mask, int16_t* values) {
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const size_t i = static_cast<size_t>(y) * w + x;
-            if (mask && !mask[i]) continue;
-            values[i] = static_cast<int16_t>(predictAt(values, x, y, w) + unzigzag(*codes++));
-        }
-    return codes;
-}
-
 // Codes as two byte planes (all low bytes, then all high bytes): most high bytes are 0, which
 // zstd then stores as one long run.
 void putShuffled(ByteWriter& out, const std::vector<uint16_t>& codes) {
@@ -121,6 +112,34 @@ void putShuffled(ByteWriter& out, const std::vector<uint16_t>& codes) {
         p[i] = static_cast<std::byte>(codes[i] & 0xFF);
         p[codes.size() + i] = static_cast<std::byte>(codes[i] >> 8);
     }
+}
+
+// Occupied items (scan order) as runs: u32 count, then per run u32 gap (items since the end of
+// the previous run) and u32 length. A blob-shaped footprint takes a few runs per row.
+void putRuns(ByteWriter& out, const std::vector<uint8_t>& occupied) {
+    std::vector<uint32_t> runs;
+    size_t end = 0;
+    for (size_t i = 0; i < occupied.size();) {
+        if (!occupied[i]) {
+            ++i;
+            continue;
+        }
+        size_t j = i;
+        while (j < occupied.size() && occupied[j]) ++j;
+        runs.push_back(static_cast<uint32_t>(i - end));
+        runs.push_back(static_cast<uint32_t>(j - i));
+        end = i = j;
+    }
+    out.put<uint32_t>(static_cast<uint32_t>(runs.size() / 2));
+    for (uint32_t v : runs) out.put<uint32_t>(v);
+}
+
+// Items whose planes (plane-major, `items` values each) are all 0.
+std::vector<uint8_t> occupiedItems(const int16_t* planes, size_t count, size_t items) {
+    std::vector<uint8_t> occupied(items, 0);
+    for (size_t i = 0; i < count; ++i)
+        for (size_t j = 0; j < items; ++j) occupied[j] |= planes[i * items + j] != 0;
+    return occupied;
 }
 
 // Plane-major codes (plane after plane, `items` codes each) to item-major (an item's `planes`
@@ -338,16 +357,20 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
             scale[k] = sigma[k] > 0.0 ? static_cast<float>(step / sigma[k]) : 0.0f;
             w.put<float>(scale[k]);
         }
-        std::vector<int16_t> plane(pixels);
+        std::vector<int16_t> planes(pixels * rank);
+        double error2 = 0.0;
+        for (int k = 0; k < rank; ++k)
+            for (size_t p = 0; p < pixels; ++p)
+                planes[k * pixels + p] = onGrid(double(u[p * rank + k]) * sigma[k], step, error2);
+        out.u_error = norm2 > 0.0 ? std::sqrt(error2 / norm2) : 0.0;
+        // Pixels whose W row is all 0 are left out (the decoder knows them from the runs).
+        const std::vector<uint8_t> occupied = occupiedItems(planes.data(), rank, pixels);
+        putRuns(w, occupied);
         std::vector<uint16_t> codes;
         codes.reserve(pixels * rank);
-        double error2 = 0.0;
-        for (int k = 0; k < rank; ++k) {
-            for (size_t p = 0; p < pixels; ++p) plane[p] = onGrid(double(u[p * rank + k]) * sigma[k], step, error2);
-            predictPlane(plane.data(), description.width, description.height, nullptr, codes);
-        }
-        out.u_error = norm2 > 0.0 ? std::sqrt(error2 / norm2) : 0.0;
-        putShuffled(w, transpose(codes.data(), rank, pixels));
+        for (int k = 0; k < rank; ++k)
+            predictPlane(planes.data() + k * pixels, description.width, description.height, occupied.data(), codes);
+        putShuffled(w, transpose(codes.data(), rank, rank > 0 ? codes.size() / rank : 0));
         out.u = w.take();
     }
 
@@ -443,8 +466,16 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
         w.put<double>(step);
         w.put<double>(g.k_lo);
         w.put<double>(g.k_hi);
-        std::byte* flags = w.grow(pixels);
-        for (size_t p = 0; p < pixels; ++p) flags[p] = static_cast<std::byte>(detailed[p]);
+        // Pixels whose mean ray is all 0 (no depth at all) are left out of the mean rays' codes.
+        const std::vector<uint8_t> occupied = occupiedItems(mean.data(), planes, pixels);
+        putRuns(w, occupied);
+        // The detailed pixels: u32 count, then each as u32 gap from the one before (+1).
+        w.put<uint32_t>(static_cast<uint32_t>(std::count(detailed.begin(), detailed.end(), uint8_t{1})));
+        for (size_t p = 0, next = 0; p < pixels; ++p)
+            if (detailed[p]) {
+                w.put<uint32_t>(static_cast<uint32_t>(p - next));
+                next = p + 1;
+            }
         // A pixel without detail has all its rays equal to its mean ray.
         const std::vector<uint8_t> ray_detailed = lattice.spread(detailed);
         for (size_t i = 0; i < planes; ++i)
@@ -454,11 +485,11 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
         std::vector<uint16_t> mean_codes, ray_codes;
         mean_codes.reserve(planes * pixels);
         for (size_t i = 0; i < planes; ++i)
-            predictPlane(mean.data() + i * pixels, description.width, description.height, nullptr, mean_codes);
+            predictPlane(mean.data() + i * pixels, description.width, description.height, occupied.data(), mean_codes);
         for (size_t i = 0; i < planes; ++i)
             predictPlane(rays_q.data() + i * lattice.size(), lattice.width, lattice.height, ray_detailed.data(),
                          ray_codes);
-        std::vector<uint16_t> codes = transpose(mean_codes.data(), planes, pixels);
+        std::vector<uint16_t> codes = transpose(mean_codes.data(), planes, mean_codes.size() / planes);
         const std::vector<uint16_t> rays_item_major = transpose(ray_codes.data(), planes, ray_codes.size() / planes);
         codes.insert(codes.end(), rays_item_major.begin(), rays_item_major.end());
         putShuffled(w, codes);
@@ -604,84 +635,282 @@ FIRELOOK_ALWAYS_INLINE void decodeItem(const CodeStream& codes, size_t first_cod
     if (g < stride) decodeLanes<v8s, v8u, v8b>(codes, first_code, lanes, g, left, up, up_left, out);
 }
 
-// A w x h image of items with `lanes` planes each, stored `stride` (a multiple of 8, >= lanes)
-// apart; codes item after item. Returns the next code.
-FIRELOOK_KERNEL_CLONES
-size_t decodeImage(const CodeStream& codes, size_t first_code, int lanes, int stride, int w, int h, int16_t* out) {
-    const size_t row = static_cast<size_t>(w) * stride;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            int16_t* item = out + static_cast<size_t>(y) * row + static_cast<size_t>(x) * stride;
-            decodeItem(codes, first_code, lanes, stride, x > 0 ? item - stride : nullptr, y > 0 ? item - row : nullptr,
-                       x > 0 && y > 0 ? item - row - stride : nullptr, item);
-            first_code += static_cast<size_t>(lanes);
+// Items [first, first + count) of an image in scan order: the ones a payload codes.
+struct Run {
+    size_t first = 0, count = 0;
+};
+
+// Version 3's runs (putRuns) of the occupied items among `items`.
+std::vector<Run> getRuns(ByteReader& in, size_t items) {
+    const uint32_t n = in.get<uint32_t>();
+    const std::byte* p = in.need(static_cast<size_t>(n) * 8);  // refuses a count the payload cannot hold
+    std::vector<Run> runs(n);
+    size_t end = 0;
+    for (Run& run : runs) {
+        uint32_t gap, count;
+        std::memcpy(&gap, p, 4);
+        std::memcpy(&count, p + 4, 4);
+        p += 8;
+        if (count == 0 || gap > items - end || count > items - end - gap) in.fail("has an invalid run of occupied items");
+        run = {end + gap, count};
+        end = run.first + run.count;
+    }
+    return runs;
+}
+
+// Every item, for the versions that code them all.
+std::vector<Run> allItems(size_t items) { return items > 0 ? std::vector<Run>{{0, items}} : std::vector<Run>{}; }
+
+size_t itemsIn(const std::vector<Run>& runs) {
+    size_t n = 0;
+    for (const Run& run : runs) n += run.count;
+    return n;
+}
+
+// Residuals from their two code bytes (zig-zag undone).
+template <typename S, typename U, typename B>
+FIRELOOK_ALWAYS_INLINE void unzigzagLanes(S& out, const B& lo, const B& hi) {
+    const U z = __builtin_convertvector(lo, U) | (__builtin_convertvector(hi, U) << 8);
+    out = reinterpret_cast<S>((z >> 1) ^ (U{} - (z & 1)));
+}
+
+// Items [x0, x1) of one row (`row` points at its item 0; `up_row` at the row above's, null on the
+// first row), `N8` x 8 lanes apart, from codes[code ...]: the row's left and upper-left
+// neighbours are carried in registers from item to item, so each item reads only its codes and
+// its upper neighbour, and the chain from one item to the next is the prediction and one add.
+// Outside the image the neighbours are 0, which gives predictAt's edge rules (the median of a, 0
+// and 0 is a). Returns the next code.
+template <int N8>
+FIRELOOK_ALWAYS_INLINE size_t decodeRowSegment(const CodeStream& codes, size_t code, int lanes, const int16_t* up_row,
+                                               int16_t* row, size_t x0, size_t x1) {
+    using simd::v16b;
+    using simd::v16s;
+    using simd::v16u;
+    constexpr int kWide = N8 / 2;           // 16-lane groups
+    constexpr bool kTail = N8 % 2 != 0;     // then one of 8 lanes
+    constexpr size_t kStride = 8 * N8;
+    constexpr int kWideSlots = kWide > 0 ? kWide : 1;
+    v16s left[kWideSlots] = {}, up_left[kWideSlots] = {};
+    v8s left8 = {}, up_left8 = {};
+    if (x0 > 0) {
+        const int16_t* l = row + (x0 - 1) * kStride;
+#pragma GCC unroll 8
+        for (int g = 0; g < kWide; ++g) simd::load(left[g], l + 16 * g);
+        if constexpr (kTail) simd::load(left8, l + 16 * kWide);
+        if (up_row) {
+            const int16_t* ul = up_row + (x0 - 1) * kStride;
+#pragma GCC unroll 8
+            for (int g = 0; g < kWide; ++g) simd::load(up_left[g], ul + 16 * g);
+            if constexpr (kTail) simd::load(up_left8, ul + 16 * kWide);
         }
+    }
+    // Lanes at or beyond `lanes` hold the next item's codes in the stream: masked to 0.
+    v16b keep[kWideSlots] = {};
+    v8b keep8 = {};
+    for (int g = 0; g < kWide; ++g)
+        for (int l = 0; l < 16; ++l) keep[g][l] = 16 * g + l < lanes ? 0xFF : 0;
+    for (int l = 0; l < 8; ++l) keep8[l] = 16 * kWide + l < lanes ? 0xFF : 0;
+    for (size_t x = x0; x < x1; ++x, code += static_cast<size_t>(lanes)) {
+        int16_t* item = row + x * kStride;
+        const int16_t* up = up_row ? up_row + x * kStride : nullptr;
+        // Whole vectors of codes where the stream has them (the last items: a careful read).
+        const bool whole = code + kStride <= codes.count;
+#pragma GCC unroll 8
+        for (int g = 0; g < kWide; ++g) {
+            v16s r;
+            if (whole) {
+                v16b lo, hi;
+                simd::load(lo, codes.lo + code + 16 * g);
+                simd::load(hi, codes.hi + code + 16 * g);
+                unzigzagLanes<v16s, v16u, v16b>(r, lo & keep[g], hi & keep[g]);
+            } else {
+                codes.residuals<v16s, v16u, v16b>(r, code + 16 * g, std::clamp(lanes - 16 * g, 0, 16));
+            }
+            v16s b = {};
+            if (up) simd::load(b, up + 16 * g);
+            v16s prediction;
+            medPredictLanes<v16s, v16u>(prediction, left[g], b, up_left[g]);
+            const v16s v = reinterpret_cast<v16s>(reinterpret_cast<v16u>(prediction) + reinterpret_cast<v16u>(r));
+            simd::store(item + 16 * g, v);
+            left[g] = v;
+            up_left[g] = b;
+        }
+        if constexpr (kTail) {
+            v8s r;
+            if (whole) {
+                v8b lo, hi;
+                simd::load(lo, codes.lo + code + 16 * kWide);
+                simd::load(hi, codes.hi + code + 16 * kWide);
+                unzigzagLanes<v8s, v8u, v8b>(r, lo & keep8, hi & keep8);
+            } else {
+                codes.residuals<v8s, v8u, v8b>(r, code + 16 * kWide, std::clamp(lanes - 16 * kWide, 0, 8));
+            }
+            v8s b = {};
+            if (up) simd::load(b, up + 16 * kWide);
+            v8s prediction;
+            medPredictLanes<v8s, v8u>(prediction, left8, b, up_left8);
+            const v8s v = reinterpret_cast<v8s>(reinterpret_cast<v8u>(prediction) + reinterpret_cast<v8u>(r));
+            simd::store(item + 16 * kWide, v);
+            left8 = v;
+            up_left8 = b;
+        }
+    }
+    return code;
+}
+
+// One row's items [x0, x1) (`r` points at the row's item 0, the row above `row` values before it
+// when `has_up`): strides up to 64 lanes with neighbours in registers, wider ones item by item.
+// Returns the next code. (A function, not a lambda: a lambda would not be built for the caller's
+// target clone.)
+FIRELOOK_ALWAYS_INLINE size_t decodeSegment(const CodeStream& codes, size_t code, int lanes, int stride, size_t row,
+                                            int16_t* r, bool has_up, size_t x0, size_t x1) {
+    const int16_t* up = has_up ? r - row : nullptr;
+    switch (stride / 8) {
+        case 1: return decodeRowSegment<1>(codes, code, lanes, up, r, x0, x1);
+        case 2: return decodeRowSegment<2>(codes, code, lanes, up, r, x0, x1);
+        case 3: return decodeRowSegment<3>(codes, code, lanes, up, r, x0, x1);
+        case 4: return decodeRowSegment<4>(codes, code, lanes, up, r, x0, x1);
+        case 5: return decodeRowSegment<5>(codes, code, lanes, up, r, x0, x1);
+        case 6: return decodeRowSegment<6>(codes, code, lanes, up, r, x0, x1);
+        case 7: return decodeRowSegment<7>(codes, code, lanes, up, r, x0, x1);
+        case 8: return decodeRowSegment<8>(codes, code, lanes, up, r, x0, x1);
+        default: break;
+    }
+    for (size_t x = x0; x < x1; ++x, code += static_cast<size_t>(lanes)) {
+        int16_t* item = r + x * stride;
+        decodeItem(codes, code, lanes, stride, x > 0 ? item - stride : nullptr, up ? item - row : nullptr,
+                   x > 0 && up ? item - row - stride : nullptr, item);
+    }
+    return code;
+}
+
+// A w x h image of items with `lanes` planes each, stored `stride` (a multiple of 8, >= lanes)
+// apart: the items of `runs` from their codes (item after item), every other item 0 (what the
+// encoder left out). Returns the next code.
+FIRELOOK_KERNEL_CLONES
+size_t decodeImage(const CodeStream& codes, size_t first_code, int lanes, int stride, int w, int h,
+                   const std::vector<Run>& runs, int16_t* out) {
+    const size_t width = static_cast<size_t>(w), row = width * stride, items = width * h;
+    size_t done = 0;  // items [0, done) are written
+    for (const Run& run : runs) {
+        std::memset(out + done * stride, 0, (run.first - done) * stride * sizeof(int16_t));
+        const size_t end = run.first + run.count;
+        for (size_t p = run.first; p < end;) {
+            const size_t y = p / width, row_end = std::min(end, (y + 1) * width);
+            first_code = decodeSegment(codes, first_code, lanes, stride, row, out + y * row, y > 0,
+                                       p - y * width, row_end - y * width);
+            p = row_end;
+        }
+        done = end;
+    }
+    std::memset(out + done * stride, 0, (items - done) * stride * sizeof(int16_t));
     return first_code;
 }
 
-// The detailed pixels' rays on the ray lattice (RayLattice), in its scan order: each ray is
-// predicted from its lattice neighbours, which are rays of detailed pixels or else the mean ray
-// of their pixel (what the encoder's plane held there).
-class RayDecoder {
+// Indices among the detailed pixels (increasing) of one pixel row, by column (-1: not detailed).
+// A lattice row's predictions read two pixel rows (its own and the one above), so two are kept;
+// a table stays valid until the second table() call after it.
+class DetailedRows {
   public:
-    // detailed: the detailed pixels, increasing (their rays are stored in this order).
-    RayDecoder(const RayLattice& lattice, const int16_t* mean, int stride, std::span<const int32_t> detailed,
-               int16_t* rays)
-        : l_(lattice), mean_(mean), stride_(stride), detailed_(detailed), rays_(rays), samples_(lattice.samples()) {}
-
-    // Index of pixel p among the detailed ones, or -1 (a search: only neighbours of detailed rays
-    // are looked up, so a per-pixel table would cost more than it saves).
-    int32_t indexOf(int p) const {
-        const auto it = std::lower_bound(detailed_.begin(), detailed_.end(), p);
-        return it != detailed_.end() && *it == p ? static_cast<int32_t>(it - detailed_.begin()) : -1;
+    DetailedRows(std::span<const int32_t> detailed, int width) : detailed_(detailed), width_(width) {
+        for (Row& r : rows_) r.index.resize(static_cast<size_t>(width));
     }
-
-    const int16_t* at(int x, int y) const {
-        int p, s;
-        if (l_.n > 0) {
-            p = (y / l_.n) * l_.image_width + x / l_.n;
-            s = (y % l_.n) * l_.n + x % l_.n;
-        } else {
-            p = (y % l_.image_height) * l_.image_width + x;
-            s = y / l_.image_height;
-        }
-        const int32_t index = indexOf(p);
-        return index < 0 ? mean_ + static_cast<size_t>(p) * stride_
-                         : rays_ + (static_cast<size_t>(index) * samples_ + s) * stride_;
+    // The detailed pixels of pixel row py: a contiguous run of the sorted list.
+    std::pair<size_t, size_t> range(int py) const {
+        const auto b = std::lower_bound(detailed_.begin(), detailed_.end(), py * width_);
+        const auto e = std::lower_bound(b, detailed_.end(), (py + 1) * width_);
+        return {static_cast<size_t>(b - detailed_.begin()), static_cast<size_t>(e - detailed_.begin())};
     }
-    int16_t* ray(int32_t index, int s) const { return rays_ + (static_cast<size_t>(index) * samples_ + s) * stride_; }
-
-    size_t decode(const CodeStream& codes, size_t first_code, int lanes) const {
-        if (detailed_.empty()) return first_code;
-        const int per_pixel = l_.n > 0 ? l_.n : 1;
-        for (int y = 0; y < l_.height; ++y) {
-            const int py = l_.n > 0 ? y / l_.n : y % l_.image_height;
-            // The detailed pixels of pixel row py: a contiguous run of the sorted list.
-            const auto row = std::lower_bound(detailed_.begin(), detailed_.end(), py * l_.image_width);
-            for (auto it = row; it != detailed_.end() && *it < (py + 1) * l_.image_width; ++it) {
-                const int32_t p = *it;
-                const int32_t index = static_cast<int32_t>(it - detailed_.begin());
-                const int px = p % l_.image_width;
-                for (int c = 0; c < per_pixel; ++c) {
-                    const int x = px * per_pixel + c;
-                    const int s = l_.n > 0 ? (y % l_.n) * l_.n + c : y / l_.image_height;
-                    decodeItem(codes, first_code, lanes, stride_, x > 0 ? at(x - 1, y) : nullptr,
-                               y > 0 ? at(x, y - 1) : nullptr, x > 0 && y > 0 ? at(x - 1, y - 1) : nullptr,
-                               ray(index, s));
-                    first_code += static_cast<size_t>(lanes);
-                }
-            }
+    const int32_t* table(int py) {
+        if (rows_[last_].row == py) return rows_[last_].index.data();
+        last_ ^= 1;
+        Row& r = rows_[last_];
+        if (r.row != py) {
+            r.row = py;
+            std::fill(r.index.begin(), r.index.end(), -1);
+            const auto [b, e] = range(py);
+            for (size_t i = b; i < e; ++i) r.index[static_cast<size_t>(detailed_[i] - py * width_)] = static_cast<int32_t>(i);
         }
-        return first_code;
+        return r.index.data();
     }
 
   private:
-    const RayLattice& l_;
-    const int16_t* mean_;
-    int stride_;
+    struct Row {
+        int row = -1;
+        std::vector<int32_t> index;
+    };
     std::span<const int32_t> detailed_;
-    int16_t* rays_;
-    int samples_;
+    int width_;
+    Row rows_[2];
+    int last_ = 0;
+};
+
+// The detailed pixels' rays on the ray lattice (RayLattice), in its scan order: each ray is
+// predicted from its lattice neighbours, which are rays of detailed pixels or else the mean ray
+// of their pixel (what the encoder's plane held there). `detailed` increasing (their rays are
+// stored in this order, `samples` each). Returns the next code.
+FIRELOOK_KERNEL_CLONES
+size_t decodeRays(const CodeStream& codes, size_t code, int lanes, const RayLattice& l, const int16_t* mean,
+                  int stride, std::span<const int32_t> detailed, int16_t* rays) {
+    if (detailed.empty()) return code;
+    const int n = l.n, per_pixel = n > 0 ? n : 1, samples = l.samples(), width = l.image_width;
+    DetailedRows rows(detailed, width);
+    auto ray = [&](size_t index, int s) { return rays + (index * samples + s) * stride; };
+    // Lattice row y is pixel row py and, within it, sub-row `sub` (n x n rays: the ray at column c
+    // of the pixel is sample sub n + c) or sample `sub` (stacked images).
+    auto pixelRow = [&](int y) { return n > 0 ? y / n : y % l.image_height; };
+    auto subRow = [&](int y) { return n > 0 ? y % n : y / l.image_height; };
+    auto sampleOf = [&](int sub, int c) { return n > 0 ? sub * n + c : sub; };
+    for (int y = 0; y < l.height; ++y) {
+        const int py = pixelRow(y), sub = subRow(y);
+        const auto [first, end] = rows.range(py);
+        if (first == end) continue;
+        const int32_t* row = rows.table(py);
+        const int up_py = y > 0 ? pixelRow(y - 1) : -1, up_sub = y > 0 ? subRow(y - 1) : 0;
+        const int32_t* up_row = y > 0 ? rows.table(up_py) : nullptr;
+        // The ray (or, not detailed, the mean ray) of pixel (column, row qy) and sample s.
+        auto at = [&](const int32_t* table, int qy, int column, int s) -> const int16_t* {
+            const int32_t index = table[column];
+            return index >= 0 ? ray(static_cast<size_t>(index), s)
+                              : mean + (static_cast<size_t>(qy) * width + column) * stride;
+        };
+        for (size_t index = first; index < end; ++index) {
+            const int px = detailed[index] - py * width;
+            for (int c = 0; c < per_pixel; ++c) {
+                const int16_t *left = nullptr, *up = nullptr, *up_left = nullptr;
+                if (c > 0)
+                    left = ray(index, sampleOf(sub, c - 1));
+                else if (px > 0)
+                    left = at(row, py, px - 1, sampleOf(sub, per_pixel - 1));
+                if (up_row) {
+                    up = at(up_row, up_py, px, sampleOf(up_sub, c));
+                    if (c > 0)
+                        up_left = at(up_row, up_py, px, sampleOf(up_sub, c - 1));
+                    else if (px > 0)
+                        up_left = at(up_row, up_py, px - 1, sampleOf(up_sub, per_pixel - 1));
+                }
+                decodeItem(codes, code, lanes, stride, left, up, up_left, ray(index, sampleOf(sub, c)));
+                code += static_cast<size_t>(lanes);
+            }
+        }
+    }
+    return code;
+}
+
+// Codes stored plane after plane (`planes` planes of `items` codes, as two byte planes) rewritten
+// item after item, the order decodeImage reads.
+struct TransposedCodes {
+    std::vector<uint8_t> bytes;
+    CodeStream stream;
+    TransposedCodes(const uint8_t* lo, const uint8_t* hi, size_t planes, size_t items) : bytes(2 * planes * items) {
+        const size_t count = planes * items;
+        for (size_t j = 0; j < items; ++j)
+            for (size_t k = 0; k < planes; ++k) {
+                bytes[j * planes + k] = lo[k * items + j];
+                bytes[count + j * planes + k] = hi[k * items + j];
+            }
+        stream = {bytes.data(), bytes.data() + count, count};
+    }
 };
 
 // Depth planes as stored (q(O_b), e_0, then e_(j-1) - e_j) to the resident form (q(O_b), e_j):
@@ -730,104 +959,156 @@ int roundUp8(int n) { return (n + 7) / 8 * 8; }
 
 }  // namespace
 
-void decodeResidentFrame(const BakeDescription& description, int frame, int rank, std::span<const std::byte> u,
-                         std::span<const std::byte> svt, std::span<const std::byte> depths, const std::string& source,
-                         ResidentFrame& f) {
-    const std::string where = source + ": frame " + std::to_string(frame);
-    std::shared_ptr<const DepthTable> table = std::move(f.depth_table);
-    f.detailed_pixels.clear();
+namespace {
+
+// The frame's shape, which every section's decoder sets.
+void setShape(const BakeDescription& description, int frame, int rank, ResidentFrame& f) {
     f.frame = frame;
     f.pixels = description.pixelCount();
     f.columns = description.columnCount();
     f.rank = rank;
     f.rank_stride = roundUp8(rank);
     f.samples = description.footprint_samples;
-    const size_t pixels = static_cast<size_t>(f.pixels);
-    const int w = description.width, h = description.height;
+}
 
-    {
-        ByteReader in(u, where + " UFAC section");
-        const uint32_t version = in.get<uint32_t>();
-        if (version != 1 && version != kCodecVersion) in.fail("has an unknown codec version");
-        if (in.get<uint32_t>() != static_cast<uint32_t>(rank)) in.fail("holds another rank than the metadata");
-        const double step = in.get<double>();
-        if (!(step > 0.0) || !std::isfinite(step)) in.fail("has an invalid step");
-        f.u_scale.assign(static_cast<size_t>(f.rank_stride), 0.0f);
-        for (int k = 0; k < rank; ++k) {
-            f.u_scale[k] = in.get<float>();
-            if (!std::isfinite(f.u_scale[k])) in.fail("has a non-finite scale");
-        }
-        std::optional<ReorderedCodes> reordered;
-        CodeStream codes;
-        if (version == 1) {
-            reordered.emplace(in, std::initializer_list<std::pair<size_t, size_t>>{{size_t(rank), pixels}});
-            codes = reordered->stream;
-        } else {
-            codes = CodeStream::of(in, pixels * rank);
-        }
-        in.expectEnd();
-        f.w.resize(pixels * f.rank_stride);  // every value is written below
-        if (rank > 0) decodeImage(codes, 0, rank, f.rank_stride, w, h, f.w.data());
+std::string sectionName(const std::string& source, int frame, const char* section) {
+    return source + ": frame " + std::to_string(frame) + " " + section + " section";
+}
+
+}  // namespace
+
+void decodeResidentU(const BakeDescription& description, int frame, int rank, std::span<const std::byte> u,
+                     const std::string& source, ResidentFrame& f) {
+    setShape(description, frame, rank, f);
+    const size_t pixels = static_cast<size_t>(f.pixels);
+    ByteReader in(u, sectionName(source, frame, "UFAC"));
+    const uint32_t version = in.get<uint32_t>();
+    if (version < 1 || version > kCodecVersion) in.fail("has an unknown codec version");
+    if (in.get<uint32_t>() != static_cast<uint32_t>(rank)) in.fail("holds another rank than the metadata");
+    const double step = in.get<double>();
+    if (!(step > 0.0) || !std::isfinite(step)) in.fail("has an invalid step");
+    f.u_scale.assign(static_cast<size_t>(f.rank_stride), 0.0f);
+    for (int k = 0; k < rank; ++k) {
+        f.u_scale[k] = in.get<float>();
+        if (!std::isfinite(f.u_scale[k])) in.fail("has a non-finite scale");
     }
-    {
-        const size_t count = static_cast<size_t>(f.columns) * rank;
-        ByteReader in(svt, where + " SVTF section");
-        const double step = in.get<double>();
-        if (!(step > 0.0) || !std::isfinite(step)) in.fail("has an invalid step");
-        const std::vector<uint16_t> codes = getShuffled(in, count);
-        in.expectEnd();
-        f.svt.resize(count);
-        std::vector<int16_t> plane(f.columns);
-        for (int k = 0; k < rank; ++k) {
-            unpredictPlane(codes.data() + static_cast<size_t>(k) * f.columns, description.columnsPerPoint(),
-                           description.axes.pointCount(), nullptr, plane.data());
-            for (int j = 0; j < f.columns; ++j)
-                f.svt[static_cast<size_t>(j) * rank + k] = static_cast<float>(plane[j] * step);
-        }
+    const std::vector<Run> runs = version >= 3 ? getRuns(in, pixels) : allItems(pixels);
+    std::optional<ReorderedCodes> reordered;
+    CodeStream codes;
+    if (version == 1) {
+        reordered.emplace(in, std::initializer_list<std::pair<size_t, size_t>>{{size_t(rank), pixels}});
+        codes = reordered->stream;
+    } else {
+        codes = CodeStream::of(in, itemsIn(runs) * rank);
     }
-    {
-        ByteReader in(depths, where + " ODEP section");
-        const uint32_t version = in.get<uint32_t>();
-        if (version != 1 && version != kCodecVersion) in.fail("has an unknown codec version");
-        const size_t thresholds = in.get<uint32_t>();
-        if (thresholds != description.alpha_thresholds.size()) in.fail("holds another threshold count");
-        const double step = in.get<double>();
-        DepthCompanding g;
-        g.k_lo = in.get<double>();
-        g.k_hi = in.get<double>();
-        if (!(step > 0.0) || !(g.k_lo > 0.0) || !(g.k_hi >= g.k_lo) || !std::isfinite(g.k_hi) ||
-            depthLevels(g, step) > 32767.0)
-            in.fail("has an invalid depth quantisation");
-        f.depth_table = table && table->sameGrid(step, g.k_lo, g.k_hi) ? std::move(table)
-                                                                        : DepthTable::build(step, g.k_lo, g.k_hi);
-        const RayLattice lattice = RayLattice::of(description);
-        const int planes = static_cast<int>(1 + thresholds);
-        f.depth_stride = roundUp8(planes);
-        // Which pixels are detailed (keep every ray), in increasing order.
+    in.expectEnd();
+    f.w.resize(pixels * f.rank_stride);  // every value is written below
+    if (rank > 0)
+        decodeImage(codes, 0, rank, f.rank_stride, description.width, description.height, runs, f.w.data());
+    else
+        std::fill(f.w.begin(), f.w.end(), int16_t{0});
+}
+
+void decodeResidentSvt(const BakeDescription& description, int frame, int rank, std::span<const std::byte> svt,
+                       const std::string& source, ResidentFrame& f) {
+    setShape(description, frame, rank, f);
+    const size_t columns = static_cast<size_t>(f.columns), count = columns * rank;
+    ByteReader in(svt, sectionName(source, frame, "SVTF"));
+    const double step = in.get<double>();
+    if (!(step > 0.0) || !std::isfinite(step)) in.fail("has an invalid step");
+    const auto* lo = reinterpret_cast<const uint8_t*>(in.need(count * 2));
+    const uint8_t* hi = lo + count;
+    in.expectEnd();
+    f.svt.resize(count);
+    if (rank == 0) return;
+    // Plane-major codes item-major (a column's rank codes together), so that decodeImage undoes
+    // the prediction of every plane at once; then to the column-major float layout.
+    const TransposedCodes codes(lo, hi, static_cast<size_t>(rank), columns);
+    const int stride = roundUp8(rank);
+    std::vector<int16_t> items(columns * stride);
+    decodeImage(codes.stream, 0, rank, stride, description.columnsPerPoint(), description.axes.pointCount(),
+                allItems(columns), items.data());
+    for (size_t j = 0; j < columns; ++j)
+        for (int k = 0; k < rank; ++k) f.svt[j * rank + k] = static_cast<float>(items[j * stride + k] * step);
+}
+
+void decodeResidentDepths(const BakeDescription& description, int frame, int rank, std::span<const std::byte> depths,
+                          const std::string& source, ResidentFrame& f) {
+    setShape(description, frame, rank, f);
+    std::shared_ptr<const DepthTable> table = std::move(f.depth_table);
+    f.detailed_pixels.clear();
+    const size_t pixels = static_cast<size_t>(f.pixels);
+    ByteReader in(depths, sectionName(source, frame, "ODEP"));
+    const uint32_t version = in.get<uint32_t>();
+    if (version < 1 || version > kCodecVersion) in.fail("has an unknown codec version");
+    const size_t thresholds = in.get<uint32_t>();
+    if (thresholds != description.alpha_thresholds.size()) in.fail("holds another threshold count");
+    const double step = in.get<double>();
+    DepthCompanding g;
+    g.k_lo = in.get<double>();
+    g.k_hi = in.get<double>();
+    if (!(step > 0.0) || !(g.k_lo > 0.0) || !(g.k_hi >= g.k_lo) || !std::isfinite(g.k_hi) ||
+        depthLevels(g, step) > 32767.0)
+        in.fail("has an invalid depth quantisation");
+    f.depth_table = table && table->sameGrid(step, g.k_lo, g.k_hi) ? std::move(table)
+                                                                    : DepthTable::build(step, g.k_lo, g.k_hi);
+    const RayLattice lattice = RayLattice::of(description);
+    const int planes = static_cast<int>(1 + thresholds);
+    f.depth_stride = roundUp8(planes);
+    std::vector<Run> runs;
+    if (version >= 3) {
+        runs = getRuns(in, pixels);
+        // The detailed pixels (keep every ray), as gaps.
+        const uint32_t detailed = in.get<uint32_t>();
+        const std::byte* gaps = in.need(static_cast<size_t>(detailed) * 4);
+        f.detailed_pixels.reserve(detailed);
+        size_t next = 0;
+        for (uint32_t i = 0; i < detailed; ++i) {
+            uint32_t gap;
+            std::memcpy(&gap, gaps + 4 * i, 4);
+            if (gap >= pixels - next) in.fail("has an invalid detailed pixel");
+            f.detailed_pixels.push_back(static_cast<int32_t>(next + gap));
+            next += gap + 1;
+        }
+    } else {
+        runs = allItems(pixels);
+        // Which pixels are detailed, one flag each.
         const auto* flags = reinterpret_cast<const uint8_t*>(in.need(pixels));
         for (size_t p = 0; p < pixels; ++p) {
             if (flags[p] > 1) in.fail("has an invalid pixel flag");
             if (flags[p]) f.detailed_pixels.push_back(static_cast<int32_t>(p));
         }
-        const size_t detailed_rays = f.detailed_pixels.size() * static_cast<size_t>(f.samples);
-        std::optional<ReorderedCodes> reordered;
-        CodeStream codes;
-        if (version == 1) {
-            reordered.emplace(in, std::initializer_list<std::pair<size_t, size_t>>{{size_t(planes), pixels},
-                                                                                  {size_t(planes), detailed_rays}});
-            codes = reordered->stream;
-        } else {
-            codes = CodeStream::of(in, static_cast<size_t>(planes) * (pixels + detailed_rays));
-        }
-        in.expectEnd();
-        f.mean_depth.resize(pixels * f.depth_stride);  // every value is written below
-        f.detailed_depth.resize(detailed_rays * f.depth_stride);
-        const size_t next = decodeImage(codes, 0, planes, f.depth_stride, w, h, f.mean_depth.data());
-        RayDecoder(lattice, f.mean_depth.data(), f.depth_stride, f.detailed_pixels, f.detailed_depth.data())
-            .decode(codes, next, planes);
-        accumulateThresholds(f.mean_depth.data(), pixels, f.depth_stride, static_cast<int>(thresholds));
-        accumulateThresholds(f.detailed_depth.data(), detailed_rays, f.depth_stride, static_cast<int>(thresholds));
     }
+    const size_t detailed_rays = f.detailed_pixels.size() * static_cast<size_t>(f.samples);
+    std::optional<ReorderedCodes> reordered;
+    CodeStream codes;
+    if (version == 1) {
+        reordered.emplace(in, std::initializer_list<std::pair<size_t, size_t>>{{size_t(planes), pixels},
+                                                                              {size_t(planes), detailed_rays}});
+        codes = reordered->stream;
+    } else {
+        codes = CodeStream::of(in, static_cast<size_t>(planes) * (itemsIn(runs) + detailed_rays));
+    }
+    in.expectEnd();
+    f.mean_depth.resize(pixels * f.depth_stride);  // every value is written below
+    f.detailed_depth.resize(detailed_rays * f.depth_stride);
+    const size_t next =
+        decodeImage(codes, 0, planes, f.depth_stride, description.width, description.height, runs, f.mean_depth.data());
+    decodeRays(codes, next, planes, lattice, f.mean_depth.data(), f.depth_stride, f.detailed_pixels,
+               f.detailed_depth.data());
+    // The items left out are 0, which the sums keep.
+    for (const Run& run : runs)
+        accumulateThresholds(f.mean_depth.data() + run.first * f.depth_stride, run.count, f.depth_stride,
+                             static_cast<int>(thresholds));
+    accumulateThresholds(f.detailed_depth.data(), detailed_rays, f.depth_stride, static_cast<int>(thresholds));
+}
+
+void decodeResidentFrame(const BakeDescription& description, int frame, int rank, std::span<const std::byte> u,
+                         std::span<const std::byte> svt, std::span<const std::byte> depths, const std::string& source,
+                         ResidentFrame& f) {
+    decodeResidentU(description, frame, rank, u, source, f);
+    decodeResidentSvt(description, frame, rank, svt, source, f);
+    decodeResidentDepths(description, frame, rank, depths, source, f);
 }
 
 ResidentFrame decodeResidentFrame(const BakeDescription& description, int frame, int rank,

@@ -1,6 +1,7 @@
 // How one frame's factors are stored (docs/package-format.md, "Frame codec"): quantised with
 // error bounds chosen by the bake, predicted from their neighbours, and left to the container's
-// zstd to entropy-code. Encoding is deterministic (the same factors and settings give the same
+// zstd to entropy-code; pixels whose values are all 0 (outside the fire's footprint) are given as
+// runs and have no codes (payload version 3). Encoding is deterministic (the same factors and settings give the same
 // bytes); decoding checks every size against the description and never yields NaN.
 //
 // U is stored as W = U S (each column scaled by its singular value) on one uniform grid of step
@@ -63,7 +64,7 @@ FrameFactors emptyFrameFactors(const BakeDescription& description, int frame, in
 
 // The resident form of a frame (resident_frame.h), its memory from `memory`; `table` is reused
 // when the frame's depth grid is the same (else a new one is built). Reads payload versions 1
-// and 2. Throws std::runtime_error (naming `source` and the frame) when a payload does not match
+// to 3. Throws std::runtime_error (naming `source` and the frame) when a payload does not match
 // the description or is damaged.
 ResidentFrame decodeResidentFrame(const BakeDescription& description, int frame, int rank,
                                   std::span<const std::byte> u, std::span<const std::byte> svt,
@@ -75,6 +76,18 @@ ResidentFrame decodeResidentFrame(const BakeDescription& description, int frame,
 void decodeResidentFrame(const BakeDescription& description, int frame, int rank, std::span<const std::byte> u,
                          std::span<const std::byte> svt, std::span<const std::byte> depths, const std::string& source,
                          ResidentFrame& out);
+
+// decodeResidentFrame one section at a time (what bench_frame_decode times apart): each sets the
+// frame's shape (frame, pixels, columns, rank, rank_stride, samples) and the fields its section
+// holds: w and u_scale; svt; depth_stride, mean_depth, detailed_pixels, detailed_depth and
+// depth_table (reused when the grid is the same). The three in any order equal
+// decodeResidentFrame, which calls them.
+void decodeResidentU(const BakeDescription& description, int frame, int rank, std::span<const std::byte> u,
+                     const std::string& source, ResidentFrame& out);
+void decodeResidentSvt(const BakeDescription& description, int frame, int rank, std::span<const std::byte> svt,
+                       const std::string& source, ResidentFrame& out);
+void decodeResidentDepths(const BakeDescription& description, int frame, int rank, std::span<const std::byte> depths,
+                          const std::string& source, ResidentFrame& out);
 
 // The float layout of FrameFactors from the resident form (U rounded to half), for the tools and
 // the GPU upload.

@@ -40,7 +40,7 @@ inline FrameFactors factors(const BakeDescription& d, int rank, uint32_t seed) {
             f.u_half.push_back(glm::packHalf1x16(x < 0.2f ? 0.0f : smooth + 0.002f * (unit(rng) - 0.5f)));
         }
     for (int j = 0; j < f.columns; ++j)
-        for (int k = 0; k < rank; ++k) f.svt.push_back((unit(rng) - 0.5f) * 100.0f / float(1 << k));
+        for (int k = 0; k < rank; ++k) f.svt.push_back((unit(rng) - 0.5f) * 100.0f * std::ldexp(1.0f, -k));
     const size_t rays = static_cast<size_t>(f.pixels) * d.footprint_samples;
     for (size_t r = 0; r < rays; ++r) {
         const float v = unit(rng);

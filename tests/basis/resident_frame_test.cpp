@@ -5,10 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <glm/gtc/packing.hpp>
+#include <string>
 
 #include "basis/frame_codec.h"
 #include "basis/recombine.h"
@@ -79,13 +82,15 @@ TEST(ResidentFrame, ReconstructsAsTheExpandedFrame) {
     }
 }
 
-// tests/data/basis/codec1_frames.bin holds the three payloads the codec-1 encoder (before the
-// payloads stored each item's codes together) wrote for factors(description(13, 7, S), 4, 11 + S)
-// at alpha_error 0.002, footprint_error 0.001, for S = 9 and 6. The quantisation is unchanged
-// since, so today's payloads of the same factors must decode to exactly the same values.
-TEST(ResidentFrame, DecodesCodec1Payloads) {
-    std::ifstream in(FIRELOOK_TEST_DATA_DIR "/basis/codec1_frames.bin", std::ios::binary);
-    ASSERT_TRUE(in) << "tests/data/basis/codec1_frames.bin";
+// tests/data/basis/codec1_frames.bin and codec2_frames.bin hold the three payloads the encoders of
+// codec versions 1 (plane after plane) and 2 (each item's codes together, as two byte planes)
+// wrote for factors(description(13, 7, S), 4, 11 + S) at alpha_error 0.002, footprint_error
+// 0.001, for S = 9 and 6: u32 S, u32 rank, then each payload as u32 size and bytes. The
+// quantisation is unchanged since, so today's payloads of the same factors must decode to
+// exactly the same values.
+void expectOldPayloadsDecode(const char* name, uint32_t version) {
+    std::ifstream in(std::string(FIRELOOK_TEST_DATA_DIR "/basis/") + name, std::ios::binary);
+    ASSERT_TRUE(in) << name;
     const std::vector<char> file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     size_t at = 0;
     auto u32 = [&] {
@@ -101,19 +106,26 @@ TEST(ResidentFrame, DecodesCodec1Payloads) {
         at += n;
         return std::vector<std::byte>(p, p + n);
     };
+    auto versionOf = [](const std::vector<std::byte>& payload) {
+        uint32_t v = 0;
+        if (payload.size() >= 4) std::memcpy(&v, payload.data(), 4);
+        return v;
+    };
     int cases = 0;
     while (at < file.size()) {
         const int samples = static_cast<int>(u32()), rank = static_cast<int>(u32());
         const std::vector<std::byte> u = payload(), svt = payload(), depths = payload();
         ASSERT_LE(at, file.size());
+        EXPECT_EQ(versionOf(u), version) << name;
+        EXPECT_EQ(versionOf(depths), version) << name;
         const BakeDescription d = description(13, 7, samples);
         FrameCodecSettings settings;
         settings.alpha_error = 0.002;
         settings.footprint_error = 0.001;
         const EncodedFrame today = encodeFrame(d, factors(d, rank, 11 + samples), settings);
-        EXPECT_NE(today.u, u) << "the codec-1 fixture should differ from today's bytes";
+        EXPECT_NE(today.u, u) << name << " should differ from today's bytes";
         const ResidentFrame old_frame =
-            decodeResidentFrame(d, 3, rank, u, svt, depths, "codec1", std::pmr::get_default_resource(), nullptr);
+            decodeResidentFrame(d, 3, rank, u, svt, depths, name, std::pmr::get_default_resource(), nullptr);
         const ResidentFrame new_frame = decode(d, today, rank);
         EXPECT_TRUE(std::equal(old_frame.w.begin(), old_frame.w.end(), new_frame.w.begin(), new_frame.w.end()));
         EXPECT_TRUE(std::equal(old_frame.svt.begin(), old_frame.svt.end(), new_frame.svt.begin(), new_frame.svt.end()));
@@ -121,12 +133,16 @@ TEST(ResidentFrame, DecodesCodec1Payloads) {
                                new_frame.mean_depth.end()));
         EXPECT_TRUE(std::equal(old_frame.detailed_depth.begin(), old_frame.detailed_depth.end(),
                                new_frame.detailed_depth.begin(), new_frame.detailed_depth.end()));
-        EXPECT_EQ(old_frame.detailed_pixels.size(), new_frame.detailed_pixels.size());
+        EXPECT_TRUE(std::equal(old_frame.detailed_pixels.begin(), old_frame.detailed_pixels.end(),
+                               new_frame.detailed_pixels.begin(), new_frame.detailed_pixels.end()));
         EXPECT_GT(old_frame.detailed_pixels.size(), 0u);
         ++cases;
     }
-    EXPECT_EQ(cases, 2);
+    EXPECT_EQ(cases, 2) << name;
 }
+
+TEST(ResidentFrame, DecodesCodec1Payloads) { expectOldPayloadsDecode("codec1_frames.bin", 1); }
+TEST(ResidentFrame, DecodesCodec2Payloads) { expectOldPayloadsDecode("codec2_frames.bin", 2); }
 
 TEST(ResidentFrame, AReusedFrameDecodesLikeAFreshOne) {
     const BakeDescription d = description(16, 9, 4);
@@ -155,6 +171,124 @@ TEST(ResidentFrame, AReusedFrameDecodesLikeAFreshOne) {
     EXPECT_EQ(a, b);
 }
 
+// factors() inside a disc only, all 0 outside (no U, no depth), as a fire's footprint leaves most
+// of a frame; `radius` 0 leaves nothing, a large one everything.
+FrameFactors discFactors(const BakeDescription& d, int rank, uint32_t seed, double radius) {
+    FrameFactors f = mixedFactors(d, rank, seed);
+    const size_t pixels = static_cast<size_t>(f.pixels), thresholds = d.alpha_thresholds.size();
+    for (size_t p = 0; p < pixels; ++p) {
+        const double x = double(p % d.width) - 0.4 * d.width, y = double(p / d.width) - 0.5 * d.height;
+        if (std::hypot(x, y) <= radius) continue;
+        for (int k = 0; k < rank; ++k) f.u_half[p * rank + k] = 0;
+        for (int s = 0; s < d.footprint_samples; ++s) {
+            f.depth_density[s * pixels + p] = 0.0f;
+            for (size_t j = 0; j < thresholds; ++j) f.depth_sigmoid[(s * thresholds + j) * pixels + p] = 0.0f;
+        }
+    }
+    return f;
+}
+
+// Version 3 codes only the occupied pixels (a W row or a mean ray not all 0); the others decode
+// to 0 even over a frame that held values there, and the frame reconstructs as its expansion.
+TEST(ResidentFrame, EmptyPixelsAreLeftOutAndDecodeToZero) {
+    const BakeDescription d = description(23, 17, 4);
+    const int rank = 9;
+    const EncodedFrame full = encodeFrame(d, mixedFactors(d, rank, 3), {});
+    for (const double radius : {0.0, 2.0, 6.5, 100.0}) {
+        const FrameFactors original = discFactors(d, rank, 3, radius);
+        const EncodedFrame encoded = encodeFrame(d, original, {});
+        ResidentFrame f = decode(d, full, rank);  // non-zero everywhere before
+        decodeResidentFrame(d, 3, rank, encoded.u, encoded.svt, encoded.depths, "test", f);
+        const ResidentFrame fresh = decode(d, encoded, rank);
+        EXPECT_TRUE(std::equal(f.w.begin(), f.w.end(), fresh.w.begin(), fresh.w.end())) << radius;
+        EXPECT_TRUE(std::equal(f.mean_depth.begin(), f.mean_depth.end(), fresh.mean_depth.begin(),
+                               fresh.mean_depth.end())) << radius;
+        size_t occupied_u = 0, occupied_depth = 0;
+        for (int p = 0; p < d.pixelCount(); ++p) {
+            bool any_u = false, any_depth = false;
+            for (int k = 0; k < rank; ++k) {
+                const int16_t w = f.w[size_t(p) * f.rank_stride + k];
+                any_u |= w != 0;
+                if (original.u_half[size_t(p) * rank + k] == 0) {
+                    EXPECT_EQ(w, 0) << radius << " " << p;
+                }
+            }
+            for (int j = 0; j < f.depth_stride; ++j) any_depth |= f.mean_depth[size_t(p) * f.depth_stride + j] != 0;
+            occupied_u += any_u;
+            occupied_depth += any_depth;
+        }
+        // The payloads hold one code (2 bytes) per plane of each occupied item, and no more:
+        // header, runs, codes; depths also the detailed pixels and their rays.
+        const size_t runs_u = [&] {
+            uint32_t n;
+            std::memcpy(&n, encoded.u.data() + 16 + 4 * rank, 4);
+            return n;
+        }();
+        EXPECT_EQ(encoded.u.size(), 16 + 4 * size_t(rank) + 4 + 8 * runs_u + 2 * size_t(rank) * occupied_u) << radius;
+        uint32_t runs_depth;
+        std::memcpy(&runs_depth, encoded.depths.data() + 32, 4);
+        const size_t planes = 1 + d.alpha_thresholds.size(), detailed = f.detailed_pixels.size();
+        EXPECT_EQ(encoded.depths.size(), 32 + 4 + 8 * size_t(runs_depth) + 4 + 4 * detailed +
+                                             2 * planes * (occupied_depth + detailed * d.footprint_samples))
+            << radius;
+        if (radius == 0.0) {
+            EXPECT_EQ(occupied_u + occupied_depth + runs_u + runs_depth, 0u);
+        }
+        if (radius == 100.0) {  // factors() leaves U 0 left of x = 0.2 only: a run per row
+            EXPECT_EQ(runs_u, size_t(d.height));
+        }
+        if (radius == 6.5) {
+            EXPECT_GT(occupied_u, 0u);
+            EXPECT_LT(occupied_u, size_t(d.pixelCount()) / 2);
+            EXPECT_GT(detailed, 0u);
+        }
+        const FrameFactors expanded = expandFrame(d, f);
+        const ExtinctionParams e{1.3f, 4.0f, 2.0f};
+        std::vector<float> a(size_t(d.pixelCount()) * 4), b(a.size());
+        const std::vector<float> z = coefficients(d, f, e);
+        reconstructImage(d, f, z, e, a);
+        reconstructImage(d, expanded, decodeU(expanded), z, e, b);
+        for (int p = 0; p < d.pixelCount(); ++p) {
+            EXPECT_NEAR(a[p * 4 + 3], b[p * 4 + 3], 1e-6) << radius << " " << p;  // as in ReconstructsAsTheExpandedFrame
+            const auto row = f.w.begin() + ptrdiff_t(p) * f.rank_stride;
+            if (std::all_of(row, row + f.rank_stride, [](int16_t v) { return v == 0; })) {
+                for (int c = 0; c < 3; ++c) EXPECT_EQ(a[p * 4 + c], 0.0f) << radius << " " << p;
+            }
+        }
+    }
+}
+
+// The decoder keeps a row's neighbours in registers for strides of 8 to 64 lanes (one kernel per
+// stride) and goes item by item beyond: every stride decodes W to the grid values of U S (within
+// half a step of the original U, which is half-rounded), zero where U is 0, the padding 0, and
+// S V^T (the same kernels, its columns as items) within half of its step.
+TEST(ResidentFrame, EveryStrideDecodesToTheGrid) {
+    const BakeDescription d = description(19, 6, 4);
+    for (const int rank : {1, 8, 9, 16, 17, 24, 31, 40, 47, 56, 63, 64, 65, 72, 80}) {
+        const FrameFactors original = discFactors(d, rank, 40 + rank, 5.0);
+        const EncodedFrame encoded = encodeFrame(d, original, {});
+        ResidentFrame f = decode(d, encodeFrame(d, mixedFactors(d, rank, 1), {}), rank);  // stale values first
+        decodeResidentFrame(d, 3, rank, encoded.u, encoded.svt, encoded.depths, "test", f);
+        ASSERT_EQ(f.rank_stride % 8, 0);
+        ASSERT_EQ(f.w.size(), size_t(d.pixelCount()) * f.rank_stride);
+        double worst = 0.0;
+        for (int p = 0; p < d.pixelCount(); ++p)
+            for (int k = 0; k < f.rank_stride; ++k) {
+                const int16_t w = f.w[size_t(p) * f.rank_stride + k];
+                if (k >= rank || original.u_half[size_t(p) * rank + k] == 0) {
+                    EXPECT_EQ(w, 0) << rank << " " << p << " " << k;
+                    continue;
+                }
+                // u_scale = step / sigma_k: W / step = u / u_scale, rounded to the nearest level.
+                const double u = glm::unpackHalf1x16(original.u_half[size_t(p) * rank + k]);
+                worst = std::max(worst, std::abs(w - u / f.u_scale[k]));
+            }
+        EXPECT_LE(worst, 0.5 + 1e-3) << rank;  // 1e-3: float rounding of u / u_scale
+        for (size_t i = 0; i < original.svt.size(); ++i)
+            EXPECT_LE(std::abs(f.svt[i] - original.svt[i]), 0.5 * encoded.svt_step * (1 + 1e-6) + 1e-6) << rank << " " << i;
+    }
+}
+
 TEST(ResidentFrame, DamageIsRefusedByName) {
     const BakeDescription d = description(8, 5, 4);
     const EncodedFrame e = encodeFrame(d, mixedFactors(d, 3, 9), {});
@@ -168,9 +302,35 @@ TEST(ResidentFrame, DamageIsRefusedByName) {
     };
     std::vector<std::byte> short_u(e.u.begin(), e.u.end() - 1);
     EXPECT_NE(failure(short_u, e.depths).find("pkg.firelook: frame 3 UFAC section ends early"), std::string::npos);
-    std::vector<std::byte> flagged = e.depths;
-    flagged[4 + 4 + 8 + 8 + 8] = std::byte{7};  // the first pixel flag, after the header
-    EXPECT_NE(failure(e.u, flagged).find("invalid pixel flag"), std::string::npos);
+    // Version 3's depth header (32 bytes), then u32 runs, a u32 gap and length per run, then the
+    // u32 count of detailed pixels and a u32 gap each.
+    auto u32At = [](const std::vector<std::byte>& bytes, size_t at) {
+        uint32_t v;
+        std::memcpy(&v, bytes.data() + at, 4);
+        return v;
+    };
+    auto setU32 = [](std::vector<std::byte>& bytes, size_t at, uint32_t v) { std::memcpy(bytes.data() + at, &v, 4); };
+    constexpr size_t kRuns = 4 + 4 + 8 + 8 + 8;
+    ASSERT_GT(u32At(e.depths, kRuns), 0u);
+    std::vector<std::byte> overrun = e.depths;
+    setU32(overrun, kRuns + 4, uint32_t(d.pixelCount()));  // the first run's gap
+    EXPECT_NE(failure(e.u, overrun).find("pkg.firelook: frame 3 ODEP section has an invalid run of occupied items"),
+              std::string::npos);
+    std::vector<std::byte> empty_run = e.depths;
+    setU32(empty_run, kRuns + 8, 0);  // the first run's length
+    EXPECT_NE(failure(e.u, empty_run).find("invalid run of occupied items"), std::string::npos);
+    std::vector<std::byte> many_runs = e.depths;
+    setU32(many_runs, kRuns, 0x7FFFFFFF);
+    EXPECT_NE(failure(e.u, many_runs).find("ODEP section ends early"), std::string::npos);
+    const size_t detailed_at = kRuns + 4 + 8 * size_t(u32At(e.depths, kRuns));
+    ASSERT_GT(u32At(e.depths, detailed_at), 0u);
+    std::vector<std::byte> far_pixel = e.depths;
+    setU32(far_pixel, detailed_at + 4, uint32_t(d.pixelCount()));
+    EXPECT_NE(failure(e.u, far_pixel).find("invalid detailed pixel"), std::string::npos);
+    std::vector<std::byte> bad_u_run = e.u;
+    setU32(bad_u_run, 4 + 4 + 8 + 4 * 3 + 8, 0);  // after version, rank, step, 3 scales: the first run's length
+    EXPECT_NE(failure(bad_u_run, e.depths).find("UFAC section has an invalid run of occupied items"),
+              std::string::npos);
     std::vector<std::byte> versioned = e.u;
     versioned[0] = std::byte{9};
     EXPECT_NE(failure(versioned, e.depths).find("unknown codec version"), std::string::npos);
