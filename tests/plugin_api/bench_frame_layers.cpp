@@ -10,18 +10,14 @@
 #include <cstdlib>
 #include <vector>
 
+#include "../support/bench_timing.h"
 #include "firelook/firelook.h"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+using firelook::testing::Clock;
+using firelook::testing::median;
+using firelook::testing::msSince;
 
 bool ok(fl_result r, const char* call) {
     if (r == FL_OK) return true;

@@ -13,20 +13,16 @@
 #include <memory>
 #include <vector>
 
+#include "../support/bench_timing.h"
 #include "basis/basis_package.h"
 #include "basis/frame_codec.h"
 #include "world/world.h"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+using firelook::testing::Clock;
+using firelook::testing::median;
+using firelook::testing::msSince;
 
 // Median ms of the parts of one frame's decode, section by section.
 struct Parts {
