@@ -143,7 +143,23 @@ AxisAnalysis analyseSequenceAxes(const vdb::VdbSequence& sequence, const std::ve
 
 namespace {
 
-// What the errors entry of a frame's metadata says, for a frame resumed from an earlier run.
+// A frame's entry in META's "errors" list, and the reverse (for a frame resumed from an earlier
+// run): the keys live here only.
+nlohmann::ordered_json errorsEntry(const FrameBakeReport& fr) {
+    return {{"frame", fr.frame},
+            {"rank", fr.rank},
+            {"svd_truncation_relative_error", fr.truncation_error},
+            {"storage_relative_error", fr.quantisation_error},
+            {"pixels_with_footprint_rays", fr.detailed_pixels},
+            {"alpha_storage_error_bound", fr.alpha_storage_bound},
+            {"bytes", {{"u", fr.u_bytes}, {"svt", fr.svt_bytes}, {"depths", fr.depth_bytes}}},
+            {"scattering_orders", fr.scattering_orders},
+            {"cell_edge_voxels", fr.cell_edge_voxels},
+            {"light_spacing_voxels", fr.light_spacing_voxels},
+            {"cell_optical_depth", fr.cell_optical_depth},
+            {"last_order_fraction", fr.last_order_fraction}};
+}
+
 FrameBakeReport reportFromMetadata(int frame, const FrameMetadata& kept) {
     const nlohmann::ordered_json& e = kept.errors;
     FrameBakeReport fr;
@@ -177,13 +193,11 @@ nlohmann::ordered_json sharedMetadata(const std::string& sequence_path, const vd
     nlohmann::ordered_json settings = nlohmann::ordered_json::parse(configToJson(config));
     settings.erase("frames");
     const std::string settings_text = settings.dump();
-    nlohmann::ordered_json sequence_frames = nlohmann::ordered_json::array();
-    for (const vdb::FrameFile& f : sequence.frames()) sequence_frames.push_back(f.number);
     nlohmann::ordered_json extra;
     extra["provenance"] = {{"tool", "firelook"},
                            {"tool_version", tool_version},
                            {"sequence", sequence_path},
-                           {"sequence_frames", sequence_frames},
+                           {"sequence_frames", selectFrames(sequence, "")},
                            {"density_grid", sequence.options().density_grid},
                            {"temperature_grid", sequence.options().temperature_grid},
                            {"temperature_scale", sequence.options().temperature_scale},
@@ -223,9 +237,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
     const auto& ax = description.axes;
     if (config.collapse_unused_axes &&
         (ax.temperature_threshold.size() > 1 || ax.smoke_extinction.size() > 1 || ax.flame_extinction.size() > 1)) {
-        std::vector<int> all;
-        for (const vdb::FrameFile& f : sequence.frames()) all.push_back(f.number);
-        report.axes = analyseSequenceAxes(sequence, all, description, config, [&](int frame) {
+        report.axes = analyseSequenceAxes(sequence, selectFrames(sequence, ""), description, config, [&](int frame) {
             return !progress || progress(0.0, "frame " + std::to_string(frame) + ": checking the look axes");
         });
         report.axes_analysed = true;
@@ -241,6 +253,9 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
     report.memory_budget_bytes = budget;
     BakeCheckpoint checkpoint(output, run.resume);
     std::vector<std::filesystem::path> parts;
+    // The float basis images a frame stands for (traced or resumed): pixels x columns.
+    const uint64_t frame_basis_bytes = uint64_t(description.width) * description.height *
+                                       model.axes.pointCount() * model.columnsPerPoint() * sizeof(float);
     for (size_t n = 0; n < frames.size(); ++n) {
         const int frame_number = frames[n];
         const std::string detail = "frame " + std::to_string(frame_number) + " (" + std::to_string(n + 1) + "/" +
@@ -258,9 +273,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
             std::string why;
             if (const std::optional<FrameMetadata> kept = checkpoint.reusable(frame_number, shared, source_hash, why)) {
                 report.frames.push_back(reportFromMetadata(frame_number, *kept));
-                report.uncompressed_basis_bytes +=
-                    uint64_t(description.width) * description.height * model.axes.pointCount() *
-                    model.columnsPerPoint() * sizeof(float);
+                report.uncompressed_basis_bytes += frame_basis_bytes;
                 if (progress && !progress(double(n + 1) / frames.size(), detail + " kept")) throw std::runtime_error("cancelled");
                 continue;
             }
@@ -323,21 +336,10 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         fr.svt_bytes = stored.svt_bytes;
         fr.depth_bytes = stored.depth_bytes;
         entries.record = {{"frame", frame_number}, {"rank", fr.rank}};
-        entries.errors = {{"frame", frame_number},
-                          {"rank", fr.rank},
-                          {"svd_truncation_relative_error", fr.truncation_error},
-                          {"storage_relative_error", fr.quantisation_error},
-                          {"pixels_with_footprint_rays", fr.detailed_pixels},
-                          {"alpha_storage_error_bound", fr.alpha_storage_bound},
-                          {"bytes", {{"u", fr.u_bytes}, {"svt", fr.svt_bytes}, {"depths", fr.depth_bytes}}},
-                          {"scattering_orders", fr.scattering_orders},
-                          {"cell_edge_voxels", fr.cell_edge_voxels},
-                          {"light_spacing_voxels", fr.light_spacing_voxels},
-                          {"cell_optical_depth", fr.cell_optical_depth},
-                          {"last_order_fraction", fr.last_order_fraction}};
+        entries.errors = errorsEntry(fr);
         writer.addMetadata(joinMetadata(shared, {&entries}));
         writer.commit();
-        report.uncompressed_basis_bytes += traced.matrix.size() * sizeof(float);
+        report.uncompressed_basis_bytes += frame_basis_bytes;
         report.frames.push_back(fr);
         if (progress && !progress(double(n + 1) / frames.size(), detail)) throw std::runtime_error("cancelled");
     }
