@@ -18,6 +18,7 @@
 #include <numeric>
 #include <optional>
 
+#include "world/package_camera.h"
 #include "bake/basis_tracer.h"
 #include "common/atomic_file.h"
 #include "bake/bake_pipeline.h"
@@ -243,13 +244,16 @@ void registerBenchCommand(CLI::App& app) {
         const basis::BasisPackage package = basis::BasisPackage::open(args->package);
         const basis::BakeDescription& d = package.description();
         const ordered_json metadata = ordered_json::parse(package.metadataJson());
-        const ordered_json& cam = metadata.at("camera");
+        // The package's camera as the runtime reads it (checked: finite, a field of view in (0, pi)).
+        const std::optional<runtime::PackageCamera> baked = runtime::readPackageCamera(package.metadataJson(), args->package);
+        if (!baked) throw std::runtime_error(args->package + ": the package records no camera to render references with");
         render::CameraParameters camera_parameters;
-        camera_parameters.world_from_camera = cam.at("world_from_camera").get<std::array<double, 16>>();
-        camera_parameters.yfov_radians = cam.at("yfov_radians");
-        camera_parameters.width = cam.at("width");
-        camera_parameters.height = cam.at("height");
+        camera_parameters.world_from_camera = baked->world_from_camera;
+        camera_parameters.yfov_radians = baked->yfov_radians;
+        camera_parameters.width = baked->width;
+        camera_parameters.height = baked->height;
         const render::Camera camera(camera_parameters);
+        const std::string camera_key = metadata.at("camera").dump();  // the reference cache's key, as before
         vdb::ReadOptions read;
         const ordered_json& prov = metadata.at("provenance");
         read.density_grid = prov.at("density_grid");
@@ -318,7 +322,7 @@ void registerBenchCommand(CLI::App& app) {
                 const std::string size_key = "frame " + std::to_string(frame) + " size " + std::to_string(d.width) +
                                              "x" + std::to_string(d.height);
                 const std::string scene_key = " bins " + std::to_string(d.bins.t_lo) + " " + std::to_string(d.bins.t_hi) +
-                                              " " + std::to_string(d.bins.count) + " camera " + cam.dump() +
+                                              " " + std::to_string(d.bins.count) + " camera " + camera_key +
                                               (d.emission_clamp_to_centres ? " emission clamp centres" : "");
                 const std::filesystem::path cache_dir = args->reference_cache;
                 render::ReferenceResult ref;
