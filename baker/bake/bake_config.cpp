@@ -47,7 +47,8 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         const json j = json::parse(text.str());
         checkKeys(j, {"format", "version", "frames", "size", "bins", "t_lo", "t_hi", "rbf_width", "albedo", "axes",
                       "alpha_threshold_samples", "trace", "compression", "seed", "up", "density_grid",
-                      "temperature_grid", "temperature_scale", "temperature_offset", "scene", "camera"},
+                      "temperature_grid", "temperature_scale", "temperature_offset", "scene", "camera",
+                      "memory_budget"},
                   "the bake config");
         // "all" is how configToJson records every frame, so a package's recorded settings bake again.
         if (j.contains("frames")) c.frames = j["frames"].get<std::string>() == "all" ? "" : j["frames"].get<std::string>();
@@ -104,7 +105,12 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         }
         if (j.contains("compression")) {
             const json& t = j["compression"];
-            checkKeys(t, {"target_relative_error", "max_rank", "alpha_error", "footprint_error", "basis_error"}, "compression");
+            checkKeys(t, {"target_relative_error", "max_rank", "alpha_error", "footprint_error", "basis_error",
+                          "target_size", "target_error"},
+                      "compression");
+            if (t.contains("target_size")) c.target.package_bytes = parseByteSize(t["target_size"].get<std::string>());
+            if (t.contains("target_error")) c.target.basis_error = t["target_error"].get<double>();
+            checkStorageTarget(c.target);
             c.compression.target_relative_error = t.value("target_relative_error", c.compression.target_relative_error);
             c.compression.max_rank = t.value("max_rank", c.compression.max_rank);
             c.storage.alpha_error = t.value("alpha_error", c.storage.alpha_error);
@@ -123,6 +129,14 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
     } catch (const std::exception& e) {
         throw std::runtime_error(file.string() + ": " + e.what());
     }
+}
+
+void checkStorageTarget(const StorageTarget& target) {
+    if (target.package_bytes > 0 && target.basis_error > 0.0)
+        throw std::invalid_argument("a target size and a target error cannot both be given: one decides the other");
+    if (target.basis_error != 0.0 && !(target.basis_error > 0.0 && target.basis_error < 1.0))
+        throw std::invalid_argument("the target error must be a relative error in (0, 1), got " +
+                                    std::to_string(target.basis_error));
 }
 
 uint64_t parseByteSize(const std::string& text) {
@@ -144,7 +158,7 @@ uint64_t parseByteSize(const std::string& text) {
     else if (unit == "G") scale = 1024.0 * 1024.0 * 1024.0;
     else if (unit == "T") scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
     if (used == 0 || scale == 0.0 || !(value > 0.0) || !(value * scale < 1.8e19))
-        throw std::invalid_argument("memory size must be a positive number with an optional unit K, M, G or T "
+        throw std::invalid_argument("a size must be a positive number with an optional unit K, M, G or T "
                                     "(binary, e.g. 6G or 6GiB), got \"" + text + "\"");
     return static_cast<uint64_t>(value * scale);
 }
@@ -184,6 +198,9 @@ std::string configToJson(const BakeConfig& c) {
                         {"alpha_error", c.storage.alpha_error},
                         {"footprint_error", c.storage.footprint_error},
                         {"basis_error", c.storage.basis_error}};
+    // Only when given, so that packages baked without a target keep their recorded settings.
+    if (c.target.package_bytes > 0) j["compression"]["target_size"] = std::to_string(c.target.package_bytes);
+    if (c.target.basis_error > 0.0) j["compression"]["target_error"] = c.target.basis_error;
     j["seed"] = c.seed;
     return j.dump();
 }

@@ -10,6 +10,7 @@
 #include "bake/basis_compression.h"
 #include "bake/basis_tracer.h"
 #include "bake/scene_setup.h"
+#include "bake/storage_target.h"
 #include "basis/frame_codec.h"
 #include "basis/parameter_grid.h"
 #include "vdb/read_options.h"
@@ -34,6 +35,9 @@ struct BakeConfig {
     CompressionSettings compression;
     // How precisely the package stores each frame (JSON: under "compression").
     basis::FrameCodecSettings storage;
+    // A package size or a per-frame error to aim at instead of the settings above as given
+    // (storage_target.h; JSON: "compression": {"target_size": "6MiB"} or {"target_error": 0.003}).
+    StorageTarget target;
     uint64_t seed = 1;
     // Bytes the bake may hold at its peak (firelook bake --memory-budget); 0 = defaultMemoryBudget().
     uint64_t memory_budget_bytes = 0;
@@ -42,6 +46,9 @@ struct BakeConfig {
 // Applies the keys present in a bake.json; unknown keys are an error (a typo
 // in a bake setting should not silently bake the wrong thing).
 void applyConfigFile(BakeConfig& config, const std::filesystem::path& file);
+
+// Throws std::invalid_argument when both targets are given or the error is not in (0, 1).
+void checkStorageTarget(const StorageTarget& target);
 
 // "6G", "6GiB", "512M", "1048576": bytes. Throws std::invalid_argument naming the text.
 uint64_t parseByteSize(const std::string& text);

@@ -146,7 +146,7 @@ namespace {
 // A frame's entry in META's "errors" list, and the reverse (for a frame resumed from an earlier
 // run): the keys live here only.
 nlohmann::ordered_json errorsEntry(const FrameBakeReport& fr) {
-    return {{"frame", fr.frame},
+    nlohmann::ordered_json entry = {{"frame", fr.frame},
             {"rank", fr.rank},
             {"svd_truncation_relative_error", fr.truncation_error},
             {"storage_relative_error", fr.quantisation_error},
@@ -158,6 +158,16 @@ nlohmann::ordered_json errorsEntry(const FrameBakeReport& fr) {
             {"light_spacing_voxels", fr.light_spacing_voxels},
             {"cell_optical_depth", fr.cell_optical_depth},
             {"last_order_fraction", fr.last_order_fraction}};
+    if (fr.has_target)
+        entry["storage_target"] = {{"predicted_error", fr.predicted_error},
+                                   {"met", fr.target_met},
+                                   {"quality_scale", fr.quality_scale},
+                                   {"share_bytes", fr.share_bytes},
+                                   {"truncation_target", fr.compression_used.target_relative_error},
+                                   {"basis_error", fr.storage_used.basis_error},
+                                   {"alpha_error", fr.storage_used.alpha_error},
+                                   {"footprint_error", fr.storage_used.footprint_error}};
+    return entry;
 }
 
 FrameBakeReport reportFromMetadata(int frame, const FrameMetadata& kept) {
@@ -178,6 +188,18 @@ FrameBakeReport reportFromMetadata(int frame, const FrameMetadata& kept) {
     fr.light_spacing_voxels = e.at("light_spacing_voxels");
     fr.cell_optical_depth = e.at("cell_optical_depth");
     fr.last_order_fraction = e.at("last_order_fraction");
+    if (e.contains("storage_target")) {
+        const nlohmann::ordered_json& t = e.at("storage_target");
+        fr.has_target = true;
+        fr.predicted_error = t.at("predicted_error");
+        fr.target_met = t.at("met");
+        fr.quality_scale = t.at("quality_scale");
+        fr.share_bytes = t.at("share_bytes");
+        fr.compression_used.target_relative_error = t.at("truncation_target");
+        fr.storage_used.basis_error = t.at("basis_error");
+        fr.storage_used.alpha_error = t.at("alpha_error");
+        fr.storage_used.footprint_error = t.at("footprint_error");
+    }
     return fr;
 }
 
@@ -248,6 +270,12 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
     const BasisModel model = description;
     const nlohmann::ordered_json shared =
         sharedMetadata(sequence_path, sequence, config, tool_version, scene, description, report);
+
+    // A size target shares the package's bytes equally among the sequence's frames (storage_target.h).
+    const uint64_t share_bytes =
+        config.target.package_bytes > 0
+            ? frameShareBytes(config.target, sequence.frames().size(), shared.dump().size())
+            : 0;
 
     const uint64_t budget = config.memory_budget_bytes ? config.memory_budget_bytes : defaultMemoryBudget();
     report.memory_budget_bytes = budget;
@@ -321,15 +349,33 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         fr.camera_seconds = traced.seconds_camera;
 
         t0 = std::chrono::steady_clock::now();
-        const CompressedFrame compressed = compressFrameBasis(traced, frame_number, config.compression);
+        const FramePrecision chosen =
+            chooseFramePrecision(traced, frame_number, description, config.compression, config.storage, config.target,
+                                 share_bytes, [&] { return frame_progress(1.0); });
         fr.compress_seconds = secondsSince(t0);
-        fr.rank = compressed.factors.rank;
-        fr.truncation_error = compressed.truncation_error;
+        fr.rank = chosen.compressed.factors.rank;
+        fr.truncation_error = chosen.compressed.truncation_error;
+        fr.has_target = config.target.active();
+        fr.predicted_error = chosen.predicted_error;
+        fr.quality_scale = chosen.quality_scale;
+        fr.share_bytes = share_bytes;
+        fr.target_met = chosen.target_met;
+        fr.compression_used = chosen.compression;
+        fr.storage_used = chosen.storage;
+        if (notice && !chosen.target_met)
+            notice("frame " + std::to_string(frame_number) +
+                   (config.target.package_bytes > 0
+                        ? ": does not fit its share of --target-size (" + std::to_string(share_bytes) +
+                              " bytes) even at 64 times the configured errors; stored in " +
+                              std::to_string(chosen.stored_bytes) + " bytes"
+                        : ": --target-error needs more than the maximum rank (" +
+                              std::to_string(config.compression.max_rank) + "); predicted error " +
+                              std::to_string(chosen.predicted_error)));
         // The frame's own package in the checkpoint folder, written atomically: from here on an
         // interrupted bake keeps it.
         package::PackageWriter writer(parts.back());
-        const basis::StoredFrame stored = writeFrameFactors(writer, description, compressed.factors, config.storage);
-        fr.quantisation_error = std::hypot(compressed.quantisation_error, stored.u_error, stored.svt_error);
+        const basis::StoredFrame stored = basis::writeEncodedFrame(writer, frame_number, chosen.encoded);
+        fr.quantisation_error = std::hypot(chosen.compressed.quantisation_error, stored.u_error, stored.svt_error);
         fr.detailed_pixels = stored.detailed_pixels;
         fr.alpha_storage_bound = stored.alpha_bound;
         fr.u_bytes = stored.u_bytes;

@@ -35,6 +35,14 @@ struct FrameBakeReport {
     uint64_t estimated_peak_bytes = 0;
     uint64_t active_voxels = 0;
     uint64_t columns_traced = 0;  // basis columns: grid points x (bins + lights)
+    // What a --target-size or --target-error chose (storage_target.h); has_target false without one.
+    bool has_target = false;
+    double predicted_error = 0.0;  // hypot(truncation_error, quantisation_error)
+    double quality_scale = 1.0;    // --target-size: the factor on every error setting
+    uint64_t share_bytes = 0;      // --target-size: the frame's share of the package
+    bool target_met = true;
+    CompressionSettings compression_used;
+    basis::FrameCodecSettings storage_used;
 };
 
 struct BakeReport {

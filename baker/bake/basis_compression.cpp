@@ -4,14 +4,22 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/gtc/packing.hpp>
+#include <stdexcept>
 
 namespace firelook::bake {
+namespace {
 
-CompressedFrame compressFrameBasis(const FrameBasis& basis, int frame, const CompressionSettings& settings) {
-    const int pixels = basis.width * basis.height;
+using RowMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+Eigen::Map<const RowMatrix> basisMatrix(const FrameBasis& basis) {
+    return {basis.matrix.data(), static_cast<Eigen::Index>(basis.width) * basis.height, basis.columns};
+}
+
+}  // namespace
+
+FrameSpectrum frameSpectrum(const FrameBasis& basis) {
     const int columns = basis.columns;
-    using RowMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-    const Eigen::Map<const RowMatrix> b(basis.matrix.data(), pixels, columns);
+    const Eigen::Map<const RowMatrix> b = basisMatrix(basis);
 
     // Gram matrix over the non-empty rows (most pixels of a fire image see nothing).
     Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(columns, columns);
@@ -23,12 +31,42 @@ CompressedFrame compressFrameBasis(const FrameBasis& basis, int frame, const Com
         gram.selfadjointView<Eigen::Lower>().rankUpdate(block.topRows(filled).transpose());
         filled = 0;
     };
-    for (int p = 0; p < pixels; ++p) {
+    for (Eigen::Index p = 0; p < b.rows(); ++p) {
         if (b.row(p).cwiseAbs().maxCoeff() == 0.0f) continue;
         block.row(filled++) = b.row(p).cast<double>();
         if (filled == kBlockRows) flush();
     }
     flush();
+
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(gram);
+    FrameSpectrum spectrum;
+    spectrum.columns = columns;
+    const Eigen::VectorXd lambda = eigen.eigenvalues().cwiseMax(0.0);
+    spectrum.eigenvalues.assign(lambda.data(), lambda.data() + lambda.size());
+    spectrum.eigenvectors.assign(eigen.eigenvectors().data(), eigen.eigenvectors().data() + eigen.eigenvectors().size());
+    spectrum.total = lambda.sum();
+    return spectrum;
+}
+
+int truncationRank(const FrameSpectrum& spectrum, const CompressionSettings& settings) {
+    const auto columns = static_cast<int>(spectrum.eigenvalues.size());
+    if (!(spectrum.total > 0.0)) return 0;  // an empty frame: rank 0, the image is black and transparent
+    int rank = 0;
+    double dropped = spectrum.total;
+    while (rank < std::min(settings.max_rank, columns) &&
+           std::sqrt(std::max(dropped, 0.0) / spectrum.total) > settings.target_relative_error) {
+        dropped -= spectrum.eigenvalues[columns - 1 - rank];
+        ++rank;
+    }
+    return rank;
+}
+
+CompressedFrame compressFrameBasis(const FrameBasis& basis, int frame, const FrameSpectrum& spectrum, int rank) {
+    const int pixels = basis.width * basis.height;
+    const int columns = basis.columns;
+    const Eigen::Map<const RowMatrix> b = basisMatrix(basis);
+    const std::vector<double>& lambda = spectrum.eigenvalues;
+    const Eigen::Map<const Eigen::MatrixXd> vectors(spectrum.eigenvectors.data(), columns, columns);
 
     CompressedFrame out;
     out.factors.frame = frame;
@@ -36,28 +74,18 @@ CompressedFrame compressFrameBasis(const FrameBasis& basis, int frame, const Com
     out.factors.columns = columns;
     out.factors.depth_density = basis.depth_density;
     out.factors.depth_sigmoid = basis.depth_sigmoid;
-
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(gram);
-    const Eigen::VectorXd lambda = eigen.eigenvalues().cwiseMax(0.0);  // ascending; rounding can dip below 0
-    const double total = lambda.sum();
     for (int j = columns - 1; j >= 0; --j) out.singular_values.push_back(std::sqrt(lambda[j]));
-    if (!(total > 0.0)) return out;  // an empty frame: rank 0, the image is black and transparent
+    if (!(spectrum.total > 0.0)) return out;
 
-    // Smallest rank whose dropped energy is within the target.
-    int rank = 0;
-    double dropped = total;
-    while (rank < std::min(settings.max_rank, columns) &&
-           std::sqrt(std::max(dropped, 0.0) / total) > settings.target_relative_error) {
-        dropped -= lambda[columns - 1 - rank];
-        ++rank;
-    }
-    out.truncation_error = std::sqrt(std::max(dropped, 0.0) / total);
+    double dropped = spectrum.total;
+    for (int m = 0; m < rank; ++m) dropped -= lambda[columns - 1 - m];
+    out.truncation_error = std::sqrt(std::max(dropped, 0.0) / spectrum.total);
     out.factors.rank = rank;
 
     Eigen::MatrixXf v(columns, rank);
     Eigen::VectorXf sigma(rank);
     for (int m = 0; m < rank; ++m) {
-        v.col(m) = eigen.eigenvectors().col(columns - 1 - m).cast<float>();
+        v.col(m) = vectors.col(columns - 1 - m).cast<float>();
         sigma[m] = static_cast<float>(std::sqrt(lambda[columns - 1 - m]));
     }
     // U = B V S^-1, pixel-major like B.
@@ -71,6 +99,7 @@ CompressedFrame compressFrameBasis(const FrameBasis& basis, int frame, const Com
     // Half precision U; its error in B is ||(U_half - U) S||_F because V is orthonormal.
     out.factors.u_half.resize(static_cast<size_t>(pixels) * rank);
     double quantisation = 0.0;
+    out.column_quantisation.assign(rank, 0.0);
     for (int p = 0; p < pixels; ++p)
         for (int m = 0; m < rank; ++m) {
             const float value = u(p, m);
@@ -78,9 +107,47 @@ CompressedFrame compressFrameBasis(const FrameBasis& basis, int frame, const Com
             out.factors.u_half[static_cast<size_t>(p) * rank + m] = half;
             const double err = (double(glm::unpackHalf1x16(half)) - value) * sigma[m];
             quantisation += err * err;
+            out.column_quantisation[m] += err * err / spectrum.total;
         }
-    out.quantisation_error = std::sqrt(quantisation / total);
+    out.quantisation_error = std::sqrt(quantisation / spectrum.total);
     return out;
+}
+
+CompressedFrame leadingColumns(const CompressedFrame& frame, int rank) {
+    const int full = frame.factors.rank;
+    if (rank < 0 || rank > full) throw std::invalid_argument("leadingColumns: rank out of range");
+    CompressedFrame out;
+    out.factors.frame = frame.factors.frame;
+    out.factors.pixels = frame.factors.pixels;
+    out.factors.columns = frame.factors.columns;
+    out.factors.depth_density = frame.factors.depth_density;
+    out.factors.depth_sigmoid = frame.factors.depth_sigmoid;
+    out.factors.rank = rank;
+    out.singular_values = frame.singular_values;
+    double total = 0.0, kept = 0.0, quantisation = 0.0;
+    for (size_t m = 0; m < frame.singular_values.size(); ++m) {
+        const double s2 = frame.singular_values[m] * frame.singular_values[m];
+        total += s2;
+        if (static_cast<int>(m) < rank) kept += s2;
+    }
+    if (!(total > 0.0)) return out;
+    out.truncation_error = std::sqrt(std::max(total - kept, 0.0) / total);
+    out.column_quantisation.assign(frame.column_quantisation.begin(), frame.column_quantisation.begin() + rank);
+    for (double q : out.column_quantisation) quantisation += q;
+    out.quantisation_error = std::sqrt(quantisation);
+    const auto pixels = static_cast<size_t>(frame.factors.pixels);
+    out.factors.u_half.resize(pixels * rank);
+    for (size_t p = 0; p < pixels; ++p)
+        std::copy_n(frame.factors.u_half.begin() + p * full, rank, out.factors.u_half.begin() + p * rank);
+    out.factors.svt.resize(static_cast<size_t>(frame.factors.columns) * rank);
+    for (size_t j = 0; j < static_cast<size_t>(frame.factors.columns); ++j)
+        std::copy_n(frame.factors.svt.begin() + j * full, rank, out.factors.svt.begin() + j * rank);
+    return out;
+}
+
+CompressedFrame compressFrameBasis(const FrameBasis& basis, int frame, const CompressionSettings& settings) {
+    const FrameSpectrum spectrum = frameSpectrum(basis);
+    return compressFrameBasis(basis, frame, spectrum, truncationRank(spectrum, settings));
 }
 
 }  // namespace firelook::bake

@@ -26,8 +26,30 @@ struct CompressedFrame {
     double truncation_error = 0.0;    // relative Frobenius error of the rank-k truncation
     double quantisation_error = 0.0;  // relative Frobenius error added by storing U in half precision
     std::vector<double> singular_values;  // all of them, descending
+    std::vector<double> column_quantisation;  // per kept column, its share of quantisation_error^2
 };
 
+// The eigen-decomposition of B^T B, made once per frame so that several truncations of one traced
+// basis can be tried (storage_target.h) without decomposing again.
+struct FrameSpectrum {
+    int columns = 0;
+    std::vector<double> eigenvectors;  // columns x columns, column-major, in the eigenvalues' order
+    std::vector<double> eigenvalues;   // ascending, clamped at 0 (rounding can dip below)
+    double total = 0.0;                // ||B||_F^2
+};
+FrameSpectrum frameSpectrum(const FrameBasis& basis);
+
+// The smallest rank (at most max_rank) whose dropped energy is within the target relative error.
+int truncationRank(const FrameSpectrum& spectrum, const CompressionSettings& settings);
+
+// The factors of the rank-`rank` truncation.
+CompressedFrame compressFrameBasis(const FrameBasis& basis, int frame, const FrameSpectrum& spectrum, int rank);
+
+// The leading `rank` columns of `frame` (rank <= frame's): the rank-`rank` truncation, without
+// computing U again.
+CompressedFrame leadingColumns(const CompressedFrame& frame, int rank);
+
+// The same with the rank from `settings` (truncationRank).
 CompressedFrame compressFrameBasis(const FrameBasis& basis, int frame, const CompressionSettings& settings);
 
 }  // namespace firelook::bake

@@ -3,6 +3,7 @@
 //                [--resume] [--threads N]
 #include <tbb/global_control.h>
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -46,7 +47,19 @@ void writeReportJson(const std::string& path, const bake::BakeReport& report) {
                           {"light_spacing_voxels", f.light_spacing_voxels},
                           {"cell_optical_depth", f.cell_optical_depth},
                           {"estimated_peak_mib", f.estimated_peak_bytes / 1048576.0},
-                          {"columns_traced", f.columns_traced}});
+                          {"columns_traced", f.columns_traced},
+                          {"predicted_relative_error", std::hypot(f.truncation_error, f.quantisation_error)}});
+    for (size_t i = 0; i < report.frames.size(); ++i) {
+        const bake::FrameBakeReport& f = report.frames[i];
+        if (!f.has_target) continue;
+        frames[i]["storage_target"] = {{"met", f.target_met},
+                                       {"quality_scale", f.quality_scale},
+                                       {"share_bytes", f.share_bytes},
+                                       {"truncation_target", f.compression_used.target_relative_error},
+                                       {"basis_error", f.storage_used.basis_error},
+                                       {"alpha_error", f.storage_used.alpha_error},
+                                       {"footprint_error", f.storage_used.footprint_error}};
+    }
     nlohmann::ordered_json doc = {{"seconds", report.seconds},
                                         {"peak_memory_mib", report.peak_memory_kib / 1024.0},
                                         {"memory_budget_mib", report.memory_budget_bytes / 1048576.0},
@@ -63,7 +76,8 @@ void writeReportJson(const std::string& path, const bake::BakeReport& report) {
 
 void registerBakeCommand(CLI::App& app) {
     struct Args {
-        std::string sequence, output, frames, report_json, memory_budget;
+        std::string sequence, output, frames, report_json, memory_budget, target_size;
+        double target_error = 0.0;
         uint64_t seed = 1;
         int threads = 0;
         bool keep_axes = false, resume = false;
@@ -81,6 +95,14 @@ void registerBakeCommand(CLI::App& app) {
                     "most memory the bake may hold, e.g. 6G (binary units K, M, G, T); default 60% of the machine's "
                     "physical memory. Each frame's needs are estimated before it is traced: the scattered-light "
                     "cells are coarsened to fit, and a frame that cannot fit stops the bake with nothing written");
+    cmd->add_option("--target-size", args->target_size,
+                    "aim the whole sequence's package at this size, e.g. 6M (binary units): each frame gets an equal "
+                    "share and is stored at the finest precision that fits it (one factor on every error setting; "
+                    "the table and --report say what was chosen and the error it predicts)");
+    cmd->add_option("--target-error", args->target_error,
+                    "store each frame's basis within this relative error (SVD truncation and storage together, "
+                    "e.g. 0.003), in the fewest bytes; the depths for alpha keep their own bound")
+        ->excludes("--target-size");
     cmd->add_flag("--keep-axes", args->keep_axes,
                   "bake every sample of every look axis, even an axis whose samples cannot change any frame "
                   "(by default such an axis is baked at one sample and the bake says so)");
@@ -98,6 +120,9 @@ void registerBakeCommand(CLI::App& app) {
         if (cmd->count("--seed") || args->scene.config.empty()) config.seed = args->seed;
         if (!args->memory_budget.empty()) config.memory_budget_bytes = bake::parseByteSize(args->memory_budget);
         if (args->keep_axes) config.collapse_unused_axes = false;
+        if (!args->target_size.empty()) config.target = {.package_bytes = bake::parseByteSize(args->target_size)};
+        if (cmd->count("--target-error")) config.target = {.basis_error = args->target_error};
+        bake::checkStorageTarget(config.target);
         std::unique_ptr<tbb::global_control> threads;
         if (args->threads > 0)
             threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
@@ -127,14 +152,24 @@ void registerBakeCommand(CLI::App& app) {
                     args->output.c_str(), report.frames.size(), report.package_bytes / 1e6,
                     100.0 * report.package_bytes / std::max<double>(1.0, report.uncompressed_basis_bytes),
                     report.uncompressed_basis_bytes / 1e6);
-        std::printf("%6s %5s %10s %10s %9s %9s %9s %9s %7s %9s %9s\n", "frame", "rank", "svd err", "store err",
-                    "alpha err", "KiB", "U KiB", "depth KiB", "orders", "trace s", "svd s");
-        for (const bake::FrameBakeReport& f : report.frames)
-            std::printf("%6d %5d %10.2e %10.2e %9.1e %9.1f %9.1f %9.1f %7d %9.1f %9.1f%s\n", f.frame, f.rank,
-                        f.truncation_error, f.quantisation_error, f.alpha_storage_bound,
-                        (f.u_bytes + f.svt_bytes + f.depth_bytes) / 1024.0, f.u_bytes / 1024.0,
-                        f.depth_bytes / 1024.0, f.scattering_orders, f.trace_seconds, f.compress_seconds,
-                        f.resumed ? "  (resumed)" : "");
+        if (config.target.package_bytes > 0 && !report.frames.empty())
+            std::printf("target size %.2f MiB: %.1f KiB a frame; q scales every error setting\n",
+                        config.target.package_bytes / 1048576.0, report.frames.front().share_bytes / 1024.0);
+        if (config.target.basis_error > 0.0)
+            std::printf("target error %.2e per frame (svd and storage together: 'pred err')\n", config.target.basis_error);
+        const bool sized = config.target.package_bytes > 0;
+        std::printf("%6s %5s %10s %10s %10s %9s %9s %9s %9s %7s %9s %9s%s\n", "frame", "rank", "svd err", "store err",
+                    "pred err", "alpha err", "KiB", "U KiB", "depth KiB", "orders", "trace s", "svd s",
+                    sized ? "      q" : "");
+        for (const bake::FrameBakeReport& f : report.frames) {
+            std::printf("%6d %5d %10.2e %10.2e %10.2e %9.1e %9.1f %9.1f %9.1f %7d %9.1f %9.1f", f.frame, f.rank,
+                        f.truncation_error, f.quantisation_error, std::hypot(f.truncation_error, f.quantisation_error),
+                        f.alpha_storage_bound, (f.u_bytes + f.svt_bytes + f.depth_bytes) / 1024.0,
+                        f.u_bytes / 1024.0, f.depth_bytes / 1024.0, f.scattering_orders, f.trace_seconds,
+                        f.compress_seconds);
+            if (sized) std::printf(" %6.3f", f.quality_scale);
+            std::printf("%s%s\n", f.has_target && !f.target_met ? "  (over target)" : "", f.resumed ? "  (resumed)" : "");
+        }
         std::printf("bake time %.1f s, peak memory %.0f MiB (budget %.0f MiB)\n", report.seconds,
                     report.peak_memory_kib / 1024.0, report.memory_budget_bytes / 1048576.0);
         if (!args->report_json.empty()) writeReportJson(args->report_json, report);

@@ -65,4 +65,21 @@ class PackageWriter {
     std::unique_ptr<Impl> impl_;
 };
 
+// The bytes addSection stores for a section (Codec::Zstd at `options`' level), without writing
+// anything: a bake that aims at a package size (baker/bake/storage_target.h) compares candidate
+// encodings of a frame by what they would cost in the file. Not thread-safe; one per thread.
+class StoredSizeMeter {
+  public:
+    explicit StoredSizeMeter(WriterOptions options = {});
+    ~StoredSizeMeter();
+    StoredSizeMeter(StoredSizeMeter&&) noexcept;
+    StoredSizeMeter& operator=(StoredSizeMeter&&) noexcept;
+
+    uint64_t storedBytes(std::span<const std::byte> raw);
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
 }  // namespace firelook::package

@@ -75,8 +75,11 @@ FrameFactors loadLayout1(const package::PackageReader& reader, const BakeDescrip
 
 StoredFrame writeFrameFactors(package::PackageWriter& writer, const BakeDescription& description,
                               const FrameFactors& factors, const FrameCodecSettings& settings) {
-    const EncodedFrame encoded = encodeFrame(description, factors, settings);
-    const auto frame = static_cast<uint32_t>(factors.frame);
+    return writeEncodedFrame(writer, factors.frame, encodeFrame(description, factors, settings));
+}
+
+StoredFrame writeEncodedFrame(package::PackageWriter& writer, int frame_number, const EncodedFrame& encoded) {
+    const auto frame = static_cast<uint32_t>(frame_number);
     StoredFrame stored;
     stored.u_error = encoded.u_error;
     stored.svt_error = encoded.svt_error;

@@ -39,6 +39,8 @@ struct StoredFrame {
 // Encodes one frame (frame_codec.h) and adds its three sections.
 StoredFrame writeFrameFactors(package::PackageWriter& writer, const BakeDescription& description,
                               const FrameFactors& factors, const FrameCodecSettings& settings = {});
+// Adds the three sections of a frame already encoded.
+StoredFrame writeEncodedFrame(package::PackageWriter& writer, int frame, const EncodedFrame& encoded);
 
 // The META document: {"format": "firelook-basis", "bake": <description>, ...extra}.
 // `extra_json` is a JSON object whose members are added beside "bake" (provenance, errors).

@@ -214,4 +214,18 @@ const std::filesystem::path& PackageWriter::temporaryPath() const {
     return impl_->temporary;
 }
 
+struct StoredSizeMeter::Impl {
+    detail::ZstdCompressor compressor;
+};
+
+StoredSizeMeter::StoredSizeMeter(WriterOptions options)
+    : impl_(std::make_unique<Impl>(Impl{detail::ZstdCompressor(options.zstd_level, "(size estimate)")})) {}
+StoredSizeMeter::~StoredSizeMeter() = default;
+StoredSizeMeter::StoredSizeMeter(StoredSizeMeter&&) noexcept = default;
+StoredSizeMeter& StoredSizeMeter::operator=(StoredSizeMeter&&) noexcept = default;
+
+uint64_t StoredSizeMeter::storedBytes(std::span<const std::byte> raw) {
+    return impl_->compressor.compress(raw, "a section").size();
+}
+
 }  // namespace firelook::package

@@ -1,0 +1,194 @@
+#include "bake/storage_target.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "package/package_writer.h"
+
+namespace firelook::bake {
+namespace {
+
+// The q grid of a size target: q = 2^(k / kStepsPerOctave) for k in [kLowest, kHighest].
+constexpr int kStepsPerOctave = 8;
+constexpr int kLowest = -4 * kStepsPerOctave;   // q = 1/16
+constexpr int kHighest = 6 * kStepsPerOctave;   // q = 64
+
+// --target-error: the fractions of E given to the storage error (the rest, in squares, to the
+// truncation). Storing U and S V^T on a grid of error s costs about log2(1/s) bits a value, and
+// the rank falls slowly as t grows, so the best split is usually a small storage share; five
+// candidates cover it.
+constexpr double kStorageShares[] = {0.1, 0.2, 0.3, 0.45, 0.6};
+
+// What the index and each frame's META entries cost beside the shared META text: 3 index entries
+// and an errors, source and frame record per frame, generously rounded up (their text is ~1 KiB).
+constexpr uint64_t kPerFrameOverhead = 4096;
+constexpr uint64_t kFixedOverhead = 4096;  // header, index header, alignment
+
+double storageError(const CompressedFrame& c, const basis::EncodedFrame& e) {
+    return std::hypot(c.quantisation_error, e.u_error, e.svt_error);
+}
+
+struct Candidate {
+    CompressedFrame compressed;
+    basis::EncodedFrame encoded;
+    CompressionSettings compression;
+    basis::FrameCodecSettings storage;
+    uint64_t bytes = 0;
+    double predicted = 0.0;
+};
+
+class CandidateEncoder {
+  public:
+    CandidateEncoder(const basis::BakeDescription& description, const std::function<bool()>& keep_going)
+        : description_(description), keep_going_(keep_going) {}
+
+    Candidate encode(const CompressedFrame& full, int rank, const CompressionSettings& compression,
+                     const basis::FrameCodecSettings& storage) {
+        if (keep_going_ && !keep_going_()) throw std::runtime_error("cancelled");
+        ++count;
+        Candidate c;
+        c.compressed = leadingColumns(full, std::min(rank, full.factors.rank));
+        c.compression = compression;
+        c.storage = storage;
+        c.encoded = basis::encodeFrame(description_, c.compressed.factors, storage);
+        c.bytes = meter_.storedBytes(c.encoded.u) + meter_.storedBytes(c.encoded.svt) +
+                  meter_.storedBytes(c.encoded.depths);
+        c.predicted = std::hypot(c.compressed.truncation_error, storageError(c.compressed, c.encoded));
+        return c;
+    }
+    int count = 0;
+
+  private:
+    const basis::BakeDescription& description_;
+    const std::function<bool()>& keep_going_;
+    package::StoredSizeMeter meter_;
+};
+
+FramePrecision finish(Candidate&& c, int candidates, double quality_scale, bool met) {
+    FramePrecision out;
+    out.compressed = std::move(c.compressed);
+    out.encoded = std::move(c.encoded);
+    out.compression = c.compression;
+    out.storage = c.storage;
+    out.quality_scale = quality_scale;
+    out.stored_bytes = c.bytes;
+    out.predicted_error = c.predicted;
+    out.target_met = met;
+    out.candidates = candidates;
+    return out;
+}
+
+FramePrecision forError(const FrameBasis& basis, int frame, const FrameSpectrum& spectrum,
+                        const CompressionSettings& compression, const basis::FrameCodecSettings& storage,
+                        double target, CandidateEncoder& encoder) {
+    // U once, at the largest rank any split needs (the smallest truncation share).
+    CompressionSettings finest = compression;
+    finest.target_relative_error = target * std::sqrt(1.0 - kStorageShares[std::size(kStorageShares) - 1] *
+                                                                 kStorageShares[std::size(kStorageShares) - 1]);
+    const CompressedFrame full = compressFrameBasis(basis, frame, spectrum, truncationRank(spectrum, finest));
+    // The fewest bytes among the splits that meet the target; if none does (the rank cap), the
+    // smallest predicted error.
+    std::optional<Candidate> best;
+    const auto meets = [&](const Candidate& c) { return c.predicted <= target * (1.0 + 1e-9); };
+    for (double share : kStorageShares) {
+        CompressionSettings c = compression;
+        c.target_relative_error = target * std::sqrt(1.0 - share * share);
+        const int rank = truncationRank(spectrum, c);
+        // The half-precision rounding of U is part of the storage error and cannot be undone; the
+        // grids get what is left of the share.
+        const double half = leadingColumns(full, rank).quantisation_error;
+        const double left = share * target;
+        if (!(left > 1.05 * half)) continue;
+        basis::FrameCodecSettings s = storage;
+        s.basis_error = std::sqrt(left * left - half * half);
+        Candidate candidate = encoder.encode(full, rank, c, s);
+        const bool better = !best || (meets(candidate) && (!meets(*best) || candidate.bytes < best->bytes)) ||
+                            (!meets(candidate) && !meets(*best) && candidate.predicted < best->predicted);
+        if (better) best = std::move(candidate);
+    }
+    if (!best) {  // every share is below U's half-precision rounding: the finest grids allowed
+        basis::FrameCodecSettings s = storage;
+        s.basis_error = std::max(1e-6, target * 0.1);
+        best = encoder.encode(full, full.factors.rank, finest, s);
+    }
+    const bool met = meets(*best);
+    return finish(std::move(*best), encoder.count, 1.0, met);
+}
+
+FramePrecision forSize(const FrameBasis& basis, int frame, const FrameSpectrum& spectrum,
+                       const CompressionSettings& compression, const basis::FrameCodecSettings& storage,
+                       uint64_t share, CandidateEncoder& encoder) {
+    const auto scale = [](int k) { return std::exp2(double(k) / kStepsPerOctave); };
+    CompressionSettings finest = compression;
+    finest.target_relative_error *= scale(kLowest);
+    const CompressedFrame full = compressFrameBasis(basis, frame, spectrum, truncationRank(spectrum, finest));
+    const auto at = [&](int k) {
+        const double q = scale(k);
+        CompressionSettings c = compression;
+        c.target_relative_error *= q;
+        basis::FrameCodecSettings s = storage;
+        s.alpha_error *= q;
+        s.footprint_error *= q;
+        s.basis_error *= q;
+        return encoder.encode(full, truncationRank(spectrum, c), c, s);
+    };
+    // Smallest k whose bytes fit: bracket with k = 0 (the configured settings), then bisect.
+    Candidate middle = at(0);
+    int lo, hi;  // bytes(hi) fits, bytes(lo) does not (or lo is one below the grid)
+    std::optional<Candidate> fitting;
+    if (middle.bytes <= share) {
+        hi = 0;
+        fitting = std::move(middle);
+        Candidate lowest = at(kLowest);
+        if (lowest.bytes <= share) return finish(std::move(lowest), encoder.count, scale(kLowest), true);
+        lo = kLowest;
+    } else {
+        lo = 0;
+        Candidate highest = at(kHighest);
+        if (highest.bytes > share) return finish(std::move(highest), encoder.count, scale(kHighest), false);
+        hi = kHighest;
+        fitting = std::move(highest);
+    }
+    while (hi - lo > 1) {
+        const int mid = lo + (hi - lo) / 2;
+        Candidate c = at(mid);
+        if (c.bytes <= share) {
+            hi = mid;
+            fitting = std::move(c);
+        } else {
+            lo = mid;
+        }
+    }
+    return finish(std::move(*fitting), encoder.count, scale(hi), true);
+}
+
+}  // namespace
+
+uint64_t frameShareBytes(const StorageTarget& target, size_t sequence_frames, uint64_t shared_metadata_bytes) {
+    const uint64_t frames = std::max<size_t>(sequence_frames, 1);
+    const uint64_t overhead = kFixedOverhead + shared_metadata_bytes + frames * kPerFrameOverhead;
+    if (target.package_bytes <= overhead + frames * 1024)
+        throw std::invalid_argument("--target-size " + std::to_string(target.package_bytes) +
+                                    " bytes leaves almost nothing for " + std::to_string(frames) +
+                                    " frames once the metadata (" + std::to_string(overhead) + " bytes) is counted");
+    return (target.package_bytes - overhead) / frames;
+}
+
+FramePrecision chooseFramePrecision(const FrameBasis& basis, int frame, const basis::BakeDescription& description,
+                                    const CompressionSettings& compression, const basis::FrameCodecSettings& storage,
+                                    const StorageTarget& target, uint64_t frame_share_bytes,
+                                    const std::function<bool()>& keep_going) {
+    const FrameSpectrum spectrum = frameSpectrum(basis);
+    CandidateEncoder encoder(description, keep_going);
+    if (target.basis_error > 0.0)
+        return forError(basis, frame, spectrum, compression, storage, target.basis_error, encoder);
+    if (target.package_bytes > 0)
+        return forSize(basis, frame, spectrum, compression, storage, frame_share_bytes, encoder);
+    const CompressedFrame full = compressFrameBasis(basis, frame, spectrum, truncationRank(spectrum, compression));
+    return finish(encoder.encode(full, full.factors.rank, compression, storage), encoder.count, 1.0, true);
+}
+
+}  // namespace firelook::bake

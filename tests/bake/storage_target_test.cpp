@@ -1,0 +1,110 @@
+// --target-size and --target-error (baker/bake/storage_target.h) on the tiny sample bake: what a
+// target promises is checked on the package written, not on the chooser's own figures.
+#include "bake/storage_target.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "../support/temp_dir.h"
+#include "bake/bake_config.h"
+#include "bake/bake_pipeline.h"
+#include "tiny_sample_bake.h"
+
+namespace firelook::bake {
+namespace {
+
+using firelook::testing::TempDir;
+using test::fileBytes;
+using test::tinyConfig;
+
+BakeConfig twoFrames() {
+    BakeConfig c = tinyConfig();
+    c.frames = "6-7";
+    c.scene.width = c.scene.height = 32;
+    return c;
+}
+
+TEST(StorageTarget, TargetErrorBoundsEveryFramesPredictedError) {
+    TempDir dir;
+    for (double target : {0.003, 0.02}) {
+        BakeConfig c = twoFrames();
+        c.target.basis_error = target;
+        const BakeReport r = bakePackage(FIRELOOK_SAMPLE_DIR, dir / "e.firelook", c, "test");
+        for (const FrameBakeReport& f : r.frames) {
+            EXPECT_TRUE(f.target_met) << f.frame;
+            // The promise: truncation and storage together, as measured on the stored grids.
+            EXPECT_LE(std::hypot(f.truncation_error, f.quantisation_error), target * (1 + 1e-9)) << f.frame;
+        }
+    }
+}
+
+TEST(StorageTarget, LooserErrorStoresFewerBytes) {
+    TempDir dir;
+    uint64_t bytes[2];
+    int i = 0;
+    for (double target : {0.002, 0.03}) {
+        BakeConfig c = twoFrames();
+        c.target.basis_error = target;
+        bytes[i++] = bakePackage(FIRELOOK_SAMPLE_DIR, dir / "e.firelook", c, "test").package_bytes;
+    }
+    EXPECT_LT(bytes[1], bytes[0]);
+}
+
+TEST(StorageTarget, TargetSizeKeepsThePackageOfTheSequenceWithinIt) {
+    TempDir dir;
+    const BakeConfig plain = twoFrames();
+    const BakeReport base = bakePackage(FIRELOOK_SAMPLE_DIR, dir / "p.firelook", plain, "test");
+    const uint64_t frame_bytes = (base.package_bytes) / 2;
+    // A target whose per-frame share (of the 12-frame sequence) is about half of what the defaults
+    // store: the bake must shrink the frames to fit.
+    BakeConfig c = twoFrames();
+    c.target.package_bytes = 12 * frame_bytes / 2 + 12 * 4096 + 64 * 1024;
+    const BakeReport r = bakePackage(FIRELOOK_SAMPLE_DIR, dir / "s.firelook", c, "test");
+    ASSERT_EQ(r.frames.size(), 2u);
+    for (const FrameBakeReport& f : r.frames) {
+        EXPECT_TRUE(f.target_met) << f.frame;
+        EXPECT_LE(f.u_bytes + f.svt_bytes + f.depth_bytes, f.share_bytes) << f.frame;
+        EXPECT_GT(f.quality_scale, 0.0);
+    }
+    // Two frames of twelve: their share of the target, and the package's actual bytes within it
+    // once the metadata is counted.
+    EXPECT_LE(r.package_bytes * 6, c.target.package_bytes);
+    EXPECT_EQ(r.package_bytes, std::filesystem::file_size(dir / "s.firelook"));
+    // The same inputs give the same bytes.
+    bakePackage(FIRELOOK_SAMPLE_DIR, dir / "s2.firelook", c, "test");
+    EXPECT_EQ(fileBytes(dir / "s.firelook"), fileBytes(dir / "s2.firelook"));
+}
+
+TEST(StorageTarget, BothTargetsOrABadErrorAreRefused) {
+    EXPECT_THROW(checkStorageTarget({.package_bytes = 1 << 20, .basis_error = 0.01}), std::invalid_argument);
+    EXPECT_THROW(checkStorageTarget({.basis_error = 1.5}), std::invalid_argument);
+    EXPECT_NO_THROW(checkStorageTarget({.basis_error = 0.01}));
+    EXPECT_THROW(frameShareBytes({.package_bytes = 1000}, 12, 500), std::invalid_argument);
+}
+
+TEST(StorageTarget, BakeConfigFileTakesTheTargetsAndTheMemoryBudget) {
+    TempDir dir;
+    const auto file = dir / "bake.json";
+    {
+        std::ofstream(file) << R"({"compression": {"target_size": "2M"}, "memory_budget": "3G"})";
+    }
+    BakeConfig c;
+    applyConfigFile(c, file);
+    EXPECT_EQ(c.target.package_bytes, uint64_t(2) << 20);
+    EXPECT_EQ(c.memory_budget_bytes, uint64_t(3) << 30);
+    // Recorded in the settings only when given, so that packages baked without one keep theirs.
+    EXPECT_NE(configToJson(c).find("\"target_size\""), std::string::npos);
+    EXPECT_EQ(configToJson(BakeConfig{}).find("\"target_size\""), std::string::npos);
+    EXPECT_EQ(configToJson(BakeConfig{}).find("\"target_error\""), std::string::npos);
+    {
+        std::ofstream(file) << R"({"compression": {"target_size": "2M", "target_error": 0.01}})";
+    }
+    BakeConfig both;
+    EXPECT_THROW(applyConfigFile(both, file), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace firelook::bake
