@@ -61,6 +61,18 @@ std::string mib(uint64_t bytes) { return std::to_string((bytes + (1 << 20) - 1) 
 
 }  // namespace
 
+nlohmann::ordered_json storageTargetEntry(const FrameBakeReport& fr) {
+    if (!fr.has_target) return nullptr;
+    return {{"predicted_error", fr.predicted_error},
+            {"met", fr.target_met},
+            {"quality_scale", fr.quality_scale},
+            {"share_bytes", fr.share_bytes},
+            {"truncation_target", fr.compression_used.target_relative_error},
+            {"basis_error", fr.storage_used.basis_error},
+            {"alpha_error", fr.storage_used.alpha_error},
+            {"footprint_error", fr.storage_used.footprint_error}};
+}
+
 uint64_t defaultMemoryBudget() {
     const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
     if (pages <= 0 || page <= 0) return uint64_t(4) << 30;
@@ -158,15 +170,7 @@ nlohmann::ordered_json errorsEntry(const FrameBakeReport& fr) {
             {"light_spacing_voxels", fr.light_spacing_voxels},
             {"cell_optical_depth", fr.cell_optical_depth},
             {"last_order_fraction", fr.last_order_fraction}};
-    if (fr.has_target)
-        entry["storage_target"] = {{"predicted_error", fr.predicted_error},
-                                   {"met", fr.target_met},
-                                   {"quality_scale", fr.quality_scale},
-                                   {"share_bytes", fr.share_bytes},
-                                   {"truncation_target", fr.compression_used.target_relative_error},
-                                   {"basis_error", fr.storage_used.basis_error},
-                                   {"alpha_error", fr.storage_used.alpha_error},
-                                   {"footprint_error", fr.storage_used.footprint_error}};
+    if (fr.has_target) entry["storage_target"] = storageTargetEntry(fr);
     return entry;
 }
 

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "bake/axis_collapse.h"
 #include "bake/bake_config.h"
 #include "basis/bake_description.h"
@@ -57,6 +59,10 @@ struct BakeReport {
     bool axes_analysed = false;
     AxisAnalysis axes;
 };
+
+// What a --target-size or --target-error chose for a frame, as META's errors[].storage_target and
+// the --report JSON record it (null without a target).
+nlohmann::ordered_json storageTargetEntry(const FrameBakeReport& frame);
 
 // The default --memory-budget: 60% of the machine's physical memory (the rest for the system and
 // whatever runs beside the bake).

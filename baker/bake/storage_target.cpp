@@ -42,8 +42,10 @@ struct Candidate {
 
 class CandidateEncoder {
   public:
-    CandidateEncoder(const basis::BakeDescription& description, const std::function<bool()>& keep_going)
-        : description_(description), keep_going_(keep_going) {}
+    // `measure`: find each candidate's stored bytes (a target compares them); without a target the
+    // one encoding is written as it is and the writer's own compression gives its bytes.
+    CandidateEncoder(const basis::BakeDescription& description, const std::function<bool()>& keep_going, bool measure)
+        : description_(description), keep_going_(keep_going), measure_(measure) {}
 
     Candidate encode(const CompressedFrame& full, int rank, const CompressionSettings& compression,
                      const basis::FrameCodecSettings& storage) {
@@ -54,8 +56,9 @@ class CandidateEncoder {
         c.compression = compression;
         c.storage = storage;
         c.encoded = basis::encodeFrame(description_, c.compressed.factors, storage);
-        c.bytes = meter_.storedBytes(c.encoded.u) + meter_.storedBytes(c.encoded.svt) +
-                  meter_.storedBytes(c.encoded.depths);
+        if (measure_)
+            c.bytes = meter_.storedBytes(c.encoded.u) + meter_.storedBytes(c.encoded.svt) +
+                      meter_.storedBytes(c.encoded.depths);
         c.predicted = std::hypot(c.compressed.truncation_error, storageError(c.compressed, c.encoded));
         return c;
     }
@@ -64,6 +67,7 @@ class CandidateEncoder {
   private:
     const basis::BakeDescription& description_;
     const std::function<bool()>& keep_going_;
+    bool measure_;
     package::StoredSizeMeter meter_;
 };
 
@@ -182,7 +186,7 @@ FramePrecision chooseFramePrecision(const FrameBasis& basis, int frame, const ba
                                     const StorageTarget& target, uint64_t frame_share_bytes,
                                     const std::function<bool()>& keep_going) {
     const FrameSpectrum spectrum = frameSpectrum(basis);
-    CandidateEncoder encoder(description, keep_going);
+    CandidateEncoder encoder(description, keep_going, target.active());
     if (target.basis_error > 0.0)
         return forError(basis, frame, spectrum, compression, storage, target.basis_error, encoder);
     if (target.package_bytes > 0)

@@ -43,7 +43,7 @@ struct FramePrecision {
     CompressionSettings compression;    // the settings it was stored with
     basis::FrameCodecSettings storage;
     double quality_scale = 1.0;         // --target-size: q, the factor on every error setting
-    uint64_t stored_bytes = 0;          // the frame's three sections in the file (after zstd)
+    uint64_t stored_bytes = 0;          // with a target: the frame's three sections in the file (after zstd)
     double predicted_error = 0.0;       // hypot(truncation, storage), relative to ||B||_F
     bool target_met = true;             // false: over its share, or the error needs more than max_rank
     int candidates = 1;                 // encodings tried

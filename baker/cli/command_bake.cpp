@@ -49,17 +49,8 @@ void writeReportJson(const std::string& path, const bake::BakeReport& report) {
                           {"estimated_peak_mib", f.estimated_peak_bytes / 1048576.0},
                           {"columns_traced", f.columns_traced},
                           {"predicted_relative_error", std::hypot(f.truncation_error, f.quantisation_error)}});
-    for (size_t i = 0; i < report.frames.size(); ++i) {
-        const bake::FrameBakeReport& f = report.frames[i];
-        if (!f.has_target) continue;
-        frames[i]["storage_target"] = {{"met", f.target_met},
-                                       {"quality_scale", f.quality_scale},
-                                       {"share_bytes", f.share_bytes},
-                                       {"truncation_target", f.compression_used.target_relative_error},
-                                       {"basis_error", f.storage_used.basis_error},
-                                       {"alpha_error", f.storage_used.alpha_error},
-                                       {"footprint_error", f.storage_used.footprint_error}};
-    }
+    for (size_t i = 0; i < report.frames.size(); ++i)
+        if (report.frames[i].has_target) frames[i]["storage_target"] = bake::storageTargetEntry(report.frames[i]);
     nlohmann::ordered_json doc = {{"seconds", report.seconds},
                                         {"peak_memory_mib", report.peak_memory_kib / 1024.0},
                                         {"memory_budget_mib", report.memory_budget_bytes / 1048576.0},
