@@ -126,6 +126,7 @@ basis::BakeDescription describeBake(const vdb::VdbSequence& sequence, const Bake
         d.alpha_thresholds.push_back(n_alpha == 1 ? tc.front() : tc.front() + (tc.back() - tc.front()) * i / (n_alpha - 1));
     d.footprint_samples = config.trace.footprint_samples_per_axis * config.trace.footprint_samples_per_axis;
     d.light_directions = scene.light_directions;
+    d.six_way_first_light = scene.six_way_first_light;
     d.width = scene.camera.width();
     d.height = scene.camera.height();
 
@@ -138,6 +139,9 @@ basis::BakeDescription describeBake(const vdb::VdbSequence& sequence, const Bake
     if (scene.camera_source == "default" || config.scene.scene_path.empty())
         look.light_irradiance = defaultLook().light_irradiance;
     look.light_irradiance.resize(scene.light_directions.size(), Rgb(1.0f));
+    // The six-way lights are off by default, so a default render shows the scene's lights alone.
+    for (size_t l = std::max(scene.six_way_first_light, 0); scene.six_way_first_light >= 0 && l < look.light_irradiance.size(); ++l)
+        look.light_irradiance[l] = Rgb(0.0f);
     d.default_look_json = lookToJson(look);
     return d;
 }

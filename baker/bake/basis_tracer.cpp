@@ -215,11 +215,18 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
             gate.throwIfStopped();
             for (size_t i = 0; i < order.size(); ++i) order[i] += light[i];
         }
-        double total = 0.0;
-        for (size_t i = 0; i < order.size(); ++i) {
-            lbar_sum[i] += order[i];
-            total += order[i];
-        }
+        // The stopping test weighs the bins and the scene's own lights only: six-way lights
+        // (basis/six_way_lights.h) then never change how many orders the other columns get, so
+        // every other column is the same bytes as in a bake without them (paths are shared).
+        const int counted = model.six_way_first_light >= 0 ? tb.bins + model.six_way_first_light : C;
+        const auto countedSum = [&](const std::vector<float>& field) {
+            double sum = 0.0;
+            for (size_t i = 0; i < field.size(); ++i)
+                if (static_cast<int>(i % C) < counted) sum += field[i];
+            return sum;
+        };
+        double total = countedSum(order);
+        for (size_t i = 0; i < order.size(); ++i) lbar_sum[i] += order[i];
         out.scattering_orders = 1;
         out.last_order_fraction = 1.0;
         gate.checkpoint(0.25);
@@ -227,11 +234,8 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
             order = photonPass(ctx, SourceKind::Scattered, density_sampler, &order, settings.photons_per_order,
                                settings.seed + 16 * k);
             gate.throwIfStopped();
-            double added = 0.0;
-            for (size_t i = 0; i < order.size(); ++i) {
-                lbar_sum[i] += order[i];
-                added += order[i];
-            }
+            const double added = countedSum(order);
+            for (size_t i = 0; i < order.size(); ++i) lbar_sum[i] += order[i];
             total += added;
             out.scattering_orders = k;
             out.last_order_fraction = total > 0.0 ? added / total : 0.0;

@@ -5,6 +5,9 @@
 #include <numbers>
 #include <stdexcept>
 
+#include <glm/gtc/type_ptr.hpp>
+
+#include "basis/six_way_lights.h"
 #include "gltf/gltf_scene.h"
 #include "vdb/dense_volume.h"
 
@@ -43,6 +46,14 @@ SceneSetup resolveScene(const vdb::VdbSequence& sequence, const SceneOptions& op
                                                                 : glm::dvec3(0.35, -0.82, -0.45);
         setup.light_directions.push_back(glm::normalize(down));
         setup.light_colors.push_back(Rgb(1.0f, 0.95f, 0.9f));
+    }
+    if (options.six_way_lights) {
+        const glm::dmat4 world_from_camera = glm::make_mat4(setup.camera.parameters().world_from_camera.data());
+        setup.six_way_first_light = static_cast<int>(setup.light_directions.size());
+        for (const glm::dvec3& d : basis::sixWayTravelDirections(world_from_camera)) {
+            setup.light_directions.push_back(d);
+            setup.light_colors.push_back(Rgb(0.0f));  // off in the default look: a look turns them on
+        }
     }
     return setup;
 }

@@ -23,6 +23,8 @@ struct SceneOptions {
     render::UpAxis up = render::UpAxis::Y;
     int width = 256;
     int height = 256;
+    // `--lights six-way`: six camera-relative lights after the scene's own (basis/six_way_lights.h).
+    bool six_way_lights = false;
 };
 
 struct SceneSetup {
@@ -30,9 +32,11 @@ struct SceneSetup {
     std::vector<glm::dvec3> light_directions;  // direction each light travels
     std::vector<Rgb> light_colors;             // from the scene (color * intensity), else defaults
     std::string camera_source;                 // "default", "--camera" or the glTF file
+    int six_way_first_light = -1;              // index of the first six-way light, -1 without them
 };
 
-// Without a scene, one default light shines from above and in front of the camera.
+// Without a scene, one default light shines from above and in front of the camera. With
+// options.six_way_lights the six camera-relative lights follow, with zero colour.
 SceneSetup resolveScene(const vdb::VdbSequence& sequence, const SceneOptions& options);
 
 // The tracers' medium for one loaded frame (dense copy of the sparse grids).

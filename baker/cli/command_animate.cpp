@@ -2,15 +2,12 @@
 // Renders every frame of a package with a look keyframed across the sequence:
 // at each frame the look is interpolated linearly between the surrounding keys
 // (the paper's figure 1), held constant before the first and after the last.
-// Writes DIR/frame_NNNN.png (and .exr with --exr) and DIR/contact_sheet.png: all or nothing. The
-// files are written into a staging folder inside DIR and moved into place only once every one is
-// complete, so an error or an interrupt leaves DIR as it was (a DIR created by the run is removed).
+// Writes DIR/frame_NNNN.png (and .exr with --exr) and DIR/contact_sheet.png: all or nothing
+// (cli/staging_folder.h).
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <system_error>
 
-#include <unistd.h>
 
 #include "basis/basis_package.h"
 #include "basis/look_renderer.h"
@@ -18,6 +15,7 @@
 #include "cli/interrupt.h"
 #include "cli/output_option.h"
 #include "cli/progress_bar.h"
+#include "cli/staging_folder.h"
 #include "image/contact_sheet.h"
 #include "image/image_io.h"
 #include "world/keyframe_bracket.h"
@@ -43,39 +41,6 @@ LookKey parseKey(const std::string& text) {
     key.look = loadLook(text.substr(colon + 1));
     return key;
 }
-
-// A hidden folder in the output folder that holds the files until they are all written; removed
-// (with the output folder itself, if this run created it) unless commit() moved everything out.
-class StagingFolder {
-  public:
-    explicit StagingFolder(const std::filesystem::path& out_dir) : out_dir_(out_dir) {
-        created_out_dir_ = std::filesystem::create_directories(out_dir_);
-        for (unsigned n = 0;; ++n) {
-            path_ = out_dir_ / (".firelook-animate-" + std::to_string(::getpid()) + "-" + std::to_string(n));
-            if (std::filesystem::create_directory(path_)) break;
-        }
-    }
-    ~StagingFolder() {
-        std::error_code ignored;
-        std::filesystem::remove_all(path_, ignored);
-        if (!committed_ && created_out_dir_) std::filesystem::remove(out_dir_, ignored);  // only if empty
-    }
-    StagingFolder(const StagingFolder&) = delete;
-    StagingFolder& operator=(const StagingFolder&) = delete;
-
-    std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
-
-    // Moves every staged file over its namesake in the output folder (renames: no more writing).
-    void commit() {
-        for (const auto& entry : std::filesystem::directory_iterator(path_))
-            std::filesystem::rename(entry.path(), out_dir_ / entry.path().filename());
-        committed_ = true;
-    }
-
-  private:
-    std::filesystem::path out_dir_, path_;
-    bool created_out_dir_ = false, committed_ = false;
-};
 
 // The keys bracket as the runtime's keyframes do (runtime/world/keyframe_bracket.h).
 Look lookAtFrame(const std::vector<LookKey>& keys, int frame, const TemperatureBins& bins) {
@@ -112,7 +77,7 @@ void registerAnimateCommand(CLI::App& app) {
             if (keys[i].frame == keys[i - 1].frame)
                 throw std::invalid_argument("two keys at frame " + std::to_string(keys[i].frame));
 
-        StagingFolder staging(args->out_dir);
+        StagingFolder staging(args->out_dir, "animate");
         image::WriteOptions png;
         png.png_exposure_stops = args->exposure;
         png.png_background = std::array<float, 3>{0.0f, 0.0f, 0.0f};  // opaque frames over black, as a viewer shows them

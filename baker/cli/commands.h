@@ -17,5 +17,7 @@ void registerBenchCommand(CLI::App& app);
 void registerRepackCommand(CLI::App& app);
 void registerMergeCommand(CLI::App& app);
 void registerSplitCommand(CLI::App& app);
+void registerFitCommand(CLI::App& app);
+void registerFlipbookCommand(CLI::App& app);
 
 }  // namespace firelook::cli

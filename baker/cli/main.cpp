@@ -23,6 +23,8 @@ int main(int argc, char** argv) {
     firelook::cli::registerRepackCommand(app);
     firelook::cli::registerMergeCommand(app);
     firelook::cli::registerSplitCommand(app);
+    firelook::cli::registerFitCommand(app);
+    firelook::cli::registerFlipbookCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

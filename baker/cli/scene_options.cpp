@@ -14,6 +14,11 @@ void addSceneFlags(CLI::App& command, SceneFlags& flags) {
         ->capture_default_str();
     command.add_option("--bins", flags.bins, "number of temperature bins")->check(CLI::Range(1, 256))->capture_default_str();
     command.add_option("--config", flags.config, "bake settings JSON (docs/bake-config.md)")->check(CLI::ExistingFile);
+    command.add_option("--lights", flags.lights,
+                        "six-way: add six camera-relative lights (right, top, back, left, bottom, front), off in "
+                        "the default look (docs/cli.md, \"Six-way lights\")")
+        ->check(CLI::IsMember({"scene", "six-way"}))
+        ->capture_default_str();
     addSequenceFlags(command, flags.sequence);
 }
 
@@ -26,6 +31,7 @@ bake::BakeConfig makeBakeConfig(const CLI::App& command, const SceneFlags& flags
     if (given("--up") || flags.config.empty())
         config.scene.up = flags.up == "z" ? render::UpAxis::Z : render::UpAxis::Y;
     if (given("--bins") || flags.config.empty()) config.bins = flags.bins;
+    if (given("--lights")) config.scene.six_way_lights = flags.lights == "six-way";
     config.scene.scene_path = flags.scene;
     if (flags.camera.size() == 7) {
         std::array<double, 7> c{};

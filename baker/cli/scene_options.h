@@ -17,10 +17,12 @@ struct SceneFlags {
     std::string up = "y";
     int bins = 16;
     std::string config;
+    std::string lights = "scene";  // --lights scene|six-way
     SequenceFlags sequence;  // --strict, --clamp-extreme
 };
 
-// Adds --scene, --camera, --size, --up, --bins, --config, --strict and --clamp-extreme to a subcommand.
+// Adds --scene, --camera, --size, --up, --bins, --lights, --config, --strict and --clamp-extreme to a
+// subcommand.
 void addSceneFlags(CLI::App& command, SceneFlags& flags);
 
 // Defaults, then the --config file, then explicit flags (flags win). config.read carries the

@@ -40,6 +40,15 @@ struct WriteOptions {
 // disagree, or an empty image), a non-finite pixel, a half overflow, or any I/O failure.
 void writeImage(const std::filesystem::path& path, const ImageRGBA& image, const WriteOptions& options = {});
 
+// Channel-packed data textures (flipbook atlases, runtime/flipbook): the four channels exactly as
+// given, with no colour encoding and no alpha convention (nothing is premultiplied or divided).
+// ".exr" as writeImage (linear, half or float); ".png" and ".tga" 8 bits per channel, each value
+// clamped to [0, 1] and rounded to the nearest of 255 steps (error at most 1/510). Atomic, and
+// non-finite values are refused, as writeImage. Throws ImageError naming the file.
+void writeDataImage(const std::filesystem::path& path, const ImageRGBA& image, const WriteOptions& options = {});
+// The four channels as stored (8-bit values / 255); a file without alpha reads alpha 1.
+ImageRGBA readDataImage(const std::filesystem::path& path);
+
 // For tests and QA. EXR: linear premultiplied floats as stored. PNG: 8-bit values sRGB-decoded to
 // linear, then premultiplied by alpha. A file without alpha reads as opaque; a one- or two-channel
 // file reads as grey (plus alpha). Throws ImageError naming the file on any failure.

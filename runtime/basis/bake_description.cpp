@@ -3,6 +3,8 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "basis/six_way_lights.h"
+
 namespace firelook::basis {
 
 using nlohmann::json;
@@ -18,7 +20,7 @@ std::string bakeDescriptionToJson(const BakeDescription& d) {
     for (const glm::dvec3& dir : d.light_directions) lights.push_back({dir.x, dir.y, dir.z});
     json frames = json::array();
     for (const FrameRecord& f : d.frames) frames.push_back({{"frame", f.frame}, {"rank", f.rank}});
-    const json j = {
+    json j = {
         {"temperature_bins", {{"t_lo", d.bins.t_lo}, {"t_hi", d.bins.t_hi}, {"count", d.bins.count}}},
         {"rbf_width", d.rbf_width},
         {"rbf_fit", "non-negative least squares"},
@@ -36,6 +38,12 @@ std::string bakeDescriptionToJson(const BakeDescription& d) {
         {"frames", frames},
         {"default_look", json::parse(d.default_look_json.empty() ? "null" : d.default_look_json)},
     };
+    // Written only by six-way bakes, so every other package keeps its bytes (a minor addition).
+    if (d.six_way_first_light >= 0) {
+        json names = json::array();
+        for (std::string_view name : kSixWayLightNames) names.push_back(std::string(name));
+        j["six_way_lights"] = {{"first", d.six_way_first_light}, {"names", names}};
+    }
     return j.dump(2);
 }
 
@@ -63,6 +71,12 @@ BakeDescription parseBakeDescription(const std::string& json_text, const std::st
         d.footprint_samples = j.value("footprint_samples", 1);
         for (const json& l : j.at("light_directions"))
             d.light_directions.emplace_back(l.at(0).get<double>(), l.at(1).get<double>(), l.at(2).get<double>());
+        if (j.contains("six_way_lights")) {
+            d.six_way_first_light = j["six_way_lights"].at("first").get<int>();
+            if (d.six_way_first_light < 0 ||
+                d.six_way_first_light + kSixWayLightCount > static_cast<int>(d.light_directions.size()))
+                throw std::invalid_argument("six_way_lights.first must leave six lights after it");
+        }
         d.width = j.at("width").get<int>();
         d.height = j.at("height").get<int>();
         for (const json& f : j.at("frames")) d.frames.push_back({f.at("frame").get<int>(), f.at("rank").get<int>()});

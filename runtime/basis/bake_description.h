@@ -29,6 +29,9 @@ struct BasisModel {
     ParameterAxes axes;              // sampled extinction parameters
     std::vector<double> alpha_thresholds;  // T_c samples of the per-pixel optical depth maps
     std::vector<glm::dvec3> light_directions;  // direction each light travels, world space
+    // Index of the first of the six camera-relative lights of `bake --lights six-way`
+    // (six_way_lights.h), which follow the scene's own lights; -1 when the bake has none.
+    int six_way_first_light = -1;
 
     int columnsPerPoint() const { return bins.count + static_cast<int>(light_directions.size()); }
     int columnCount() const { return axes.pointCount() * columnsPerPoint(); }

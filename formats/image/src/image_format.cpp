@@ -8,16 +8,19 @@
 
 namespace firelook::image::detail {
 
-FileFormat formatFromExtension(const std::filesystem::path& path) {
+FileFormat formatFromExtension(const std::filesystem::path& path, bool allow_tga) {
     std::string extension = path.extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (extension == ".exr") return FileFormat::Exr;
     if (extension == ".png") return FileFormat::Png;
+    if (allow_tga && extension == ".tga") return FileFormat::Tga;
     throw ImageError(path.string() + ": unsupported image extension '" + path.extension().string() +
-                     "' (expected .exr or .png)");
+                     (allow_tga ? "' (expected .exr, .png or .tga)" : "' (expected .exr or .png)"));
 }
 
-const char* oiioFormatName(FileFormat format) { return format == FileFormat::Exr ? "openexr" : "png"; }
+const char* oiioFormatName(FileFormat format) {
+    return format == FileFormat::Exr ? "openexr" : format == FileFormat::Png ? "png" : "targa";
+}
 
 }  // namespace firelook::image::detail

@@ -38,8 +38,10 @@ ImageRGBA toRgba(const OIIO::ImageSpec& spec, const std::vector<float>& values) 
 
 }  // namespace
 
-ImageRGBA readImage(const std::filesystem::path& path) {
-    const detail::FileFormat format = detail::formatFromExtension(path);
+namespace {
+
+// The file's channels as straight floats (8-bit values / 255), checked.
+ImageRGBA readChannels(const std::filesystem::path& path, detail::FileFormat format) {
     if (!std::filesystem::exists(path)) throw ImageError(path.string() + ": no such file");
 
     auto input = OIIO::ImageInput::create(detail::oiioFormatName(format));
@@ -61,9 +63,20 @@ ImageRGBA readImage(const std::filesystem::path& path) {
     input->close();
     if (!read) throw ImageError(path.string() + ": cannot read pixels: " + input->geterror());
 
-    ImageRGBA image = toRgba(spec, values);
+    return toRgba(spec, values);
+}
+
+}  // namespace
+
+ImageRGBA readImage(const std::filesystem::path& path) {
+    const detail::FileFormat format = detail::formatFromExtension(path);
+    ImageRGBA image = readChannels(path, format);
     if (format == detail::FileFormat::Png) detail::decodeSrgbStraightAlpha(image);
     return image;
+}
+
+ImageRGBA readDataImage(const std::filesystem::path& path) {
+    return readChannels(path, detail::formatFromExtension(path, /*allow_tga=*/true));
 }
 
 }  // namespace firelook::image

@@ -1,9 +1,12 @@
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstddef>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
@@ -117,6 +120,34 @@ void writeImage(const std::filesystem::path& path, const ImageRGBA& image, const
         });
     } catch (const firelook::Error& error) {
         throw ImageError(error.what());  // the temporary's failures (its message names the file)
+    }
+}
+
+void writeDataImage(const std::filesystem::path& path, const ImageRGBA& image, const WriteOptions& options) {
+    const detail::FileFormat format = detail::formatFromExtension(path, /*allow_tga=*/true);
+    checkWritable(path, image,
+                  format == detail::FileFormat::Exr && options.exr_pixel_type == ExrPixelType::Half);
+    std::vector<std::uint8_t> bytes;
+    if (format != detail::FileFormat::Exr) {
+        bytes.resize(image.pixels.size());
+        for (std::size_t i = 0; i < bytes.size(); ++i)
+            bytes[i] = static_cast<std::uint8_t>(std::lround(std::clamp(image.pixels[i], 0.0f, 1.0f) * 255.0f));
+    }
+    try {
+        writeFileAtomically(path, [&](const std::filesystem::path& temporary) {
+            if (format == detail::FileFormat::Exr) {
+                writeExr(path, temporary, image, options.exr_pixel_type);
+                return;
+            }
+            OIIO::ImageSpec spec(image.width, image.height, 4, OIIO::TypeDesc::UINT8);
+            // Data, not colour: no sRGB curve, and alpha is a channel like the others.
+            spec.attribute("oiio:UnassociatedAlpha", 1);
+            spec.attribute("oiio:ColorSpace", "Linear");
+            spec.attribute("Software", "FireLook");
+            writeWithOiio(path, temporary, format, spec, OIIO::TypeDesc::UINT8, bytes.data());
+        });
+    } catch (const firelook::Error& error) {
+        throw ImageError(error.what());
     }
 }
 

@@ -1,0 +1,286 @@
+// firelook fit PACKAGE (--frame F | --frames A-B) --target IMG [--mask IMG] [--background R,G,B]
+//              [--fix k_s=V ...] [--smooth L] [--exposure E] -o LOOK.json [--image IMG] [--difference IMG]
+// Inverse design (issue 17): the look inside the baked ranges whose recombined image best matches
+// a target (runtime/fit/look_fit.h), written as a look file that render, the viewer and the plugin read.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory_resource>
+#include <optional>
+#include <stdexcept>
+
+#include "bake/scene_setup.h"
+#include "basis/basis_package.h"
+#include "cli/commands.h"
+#include "cli/interrupt.h"
+#include "cli/output_option.h"
+#include "cli/progress_bar.h"
+#include "fit/look_fit.h"
+#include "image/image_io.h"
+#include "image/srgb.h"
+#include "look/look.h"
+
+namespace firelook::cli {
+namespace {
+
+// A path whose runs of '#' stand for the frame number, zero-padded to the run's length.
+std::string framePath(const std::string& pattern, int frame) {
+    const size_t first = pattern.find('#');
+    if (first == std::string::npos) return pattern;
+    const size_t last = pattern.find_first_not_of('#', first);
+    const size_t width = (last == std::string::npos ? pattern.size() : last) - first;
+    std::string number = std::to_string(frame);
+    if (number.size() < width) number.insert(0, width - number.size(), '0');
+    return pattern.substr(0, first) + number + (last == std::string::npos ? "" : pattern.substr(last));
+}
+
+bool isPng(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    return ext == ".png";
+}
+
+// d(sRGB)/d(linear) at v: the weight that makes a linear error count as it shows on a display.
+// Below the sRGB curve's linear toe the slope is the toe's, 12.92.
+double srgbSlope(double v) {
+    v = std::max(v, 0.0031308);
+    return v >= 1.0 ? 0.0 : 1.055 / 2.4 * std::pow(v, 1.0 / 2.4 - 1.0);
+}
+
+Rgb parseBackground(const std::string& text) {
+    float r = 0, g = 0, b = 0;
+    char extra = 0;
+    const int n = std::sscanf(text.c_str(), "%f,%f,%f%c", &r, &g, &b, &extra);
+    if (n == 1) g = b = r;
+    if ((n != 1 && n != 3) || !(r >= 0 && g >= 0 && b >= 0) || !std::isfinite(r + g + b))
+        throw std::invalid_argument("--background '" + text + "': expected R,G,B (or one value), linear, >= 0");
+    return Rgb(r, g, b);
+}
+
+void applyFix(const std::string& text, fit::FitOptions& options) {
+    const size_t eq = text.find('=');
+    const std::string name = text.substr(0, eq);
+    double value = 0;
+    char extra = 0;
+    if (eq == std::string::npos || std::sscanf(text.c_str() + eq + 1, "%lf%c", &value, &extra) != 1)
+        throw std::invalid_argument("--fix '" + text + "': expected NAME=VALUE, NAME one of T_c, k_s, k_f");
+    if (name == "T_c" || name == "temperature_threshold") options.temperature_threshold = value;
+    else if (name == "k_s" || name == "smoke_extinction") options.smoke_extinction = value;
+    else if (name == "k_f" || name == "flame_extinction") options.flame_extinction = value;
+    else throw std::invalid_argument("--fix '" + text + "': unknown parameter '" + name + "' (T_c, k_s or k_f)");
+}
+
+struct TargetFlags {
+    std::string target, mask, background;
+    double exposure = 0.0;
+};
+
+// Reads one frame's target and mask into what the fit compares (fit_target.h): EXR as linear
+// premultiplied RGBA; PNG decoded through the display transform `render` uses for PNG, the
+// exposure undone, each pixel weighted by the sRGB curve's slope at its shown value (so the fit
+// minimises the error as displayed, to first order) and clipped pixels left out. A target opaque
+// everywhere, or any target with --background, is the effect composited over that background
+// (black by default); otherwise its alpha is matched.
+fit::FrameTarget readTarget(const TargetFlags& flags, int frame, const basis::BakeDescription& d) {
+    fit::FrameTarget target;
+    target.frame = frame;
+    const std::string path = framePath(flags.target, frame);
+    if (!std::filesystem::exists(path)) throw std::runtime_error(path + ": no such target image (frame " + std::to_string(frame) + ")");
+    const image::ImageRGBA img = image::readImage(path);
+    if (img.width != d.width || img.height != d.height)
+        throw std::runtime_error(path + ": " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+                                 ", but the package's images are " + std::to_string(d.width) + "x" +
+                                 std::to_string(d.height));
+    const size_t pixels = static_cast<size_t>(d.pixelCount());
+    target.rgba = img.pixels;
+    for (float v : target.rgba)
+        if (!std::isfinite(v)) throw std::runtime_error(path + ": holds a value that is not finite");
+    target.weight.assign(pixels, 1.0f);
+    if (!flags.mask.empty()) {
+        const std::string mask_path = framePath(flags.mask, frame);
+        if (!std::filesystem::exists(mask_path)) throw std::runtime_error(mask_path + ": no such mask image");
+        const image::ImageRGBA mask = image::readImage(mask_path);
+        if (mask.width != d.width || mask.height != d.height)
+            throw std::runtime_error(mask_path + ": mask is " + std::to_string(mask.width) + "x" +
+                                     std::to_string(mask.height) + ", but the package's images are " +
+                                     std::to_string(d.width) + "x" + std::to_string(d.height));
+        for (size_t p = 0; p < pixels; ++p) {
+            const float m = mask.pixels[4 * p];
+            target.weight[p] = std::isfinite(m) ? std::clamp(m, 0.0f, 1.0f) : 0.0f;
+        }
+    }
+    bool opaque = true;
+    for (size_t p = 0; p < pixels; ++p) opaque = opaque && target.rgba[4 * p + 3] >= 1.0f;
+    target.match_alpha = flags.background.empty() && !opaque;
+    if (!flags.background.empty()) target.background = parseBackground(flags.background);
+
+    if (isPng(path)) {
+        // 254.5 / 255 in sRGB: a channel stored as 255 may have been clipped.
+        const double clip = image::srgbToLinear(254.5 / 255.0);
+        for (size_t p = 0; p < pixels; ++p) {
+            float* t = target.rgba.data() + 4 * p;
+            const double alpha = t[3];
+            bool clipped = false;
+            for (int c = 0; c < 3; ++c) clipped = clipped || (alpha > 0.0 && t[c] / alpha >= clip);
+            const double shown = 0.2126 * t[0] + 0.7152 * t[1] + 0.0722 * t[2];
+            const double slope = srgbSlope(shown);
+            target.weight[p] = clipped ? 0.0f : static_cast<float>(target.weight[p] * slope * slope);
+        }
+    }
+    const float unexpose = static_cast<float>(std::exp2(-flags.exposure));
+    for (size_t p = 0; p < pixels; ++p)
+        for (int c = 0; c < 3; ++c) target.rgba[4 * p + c] *= unexpose;
+    if (!target.match_alpha) target.background *= unexpose;  // the background was drawn exposed too
+    return target;
+}
+
+void writeOutputs(const std::string& image_pattern, const std::string& difference_pattern, double exposure,
+                  const basis::BakeDescription& d, const std::vector<fit::FrameTarget>& targets,
+                  const fit::FitResult& result) {
+    image::WriteOptions options;
+    options.png_exposure_stops = exposure;
+    for (size_t f = 0; f < targets.size(); ++f) {
+        const fit::FrameTarget& t = targets[f];
+        if (!image_pattern.empty()) {
+            image::ImageRGBA out(d.width, d.height);
+            out.pixels = result.images[f];
+            if (!t.match_alpha) options.png_background = std::array<float, 3>{t.background.r, t.background.g, t.background.b};
+            image::writeImage(framePath(image_pattern, t.frame), out, options);
+        }
+        if (!difference_pattern.empty()) {
+            // |fit - target| in linear RGB (the composite where alpha is not matched), opaque.
+            image::ImageRGBA diff(d.width, d.height);
+            for (size_t p = 0; p < static_cast<size_t>(d.pixelCount()); ++p) {
+                const float* i = result.images[f].data() + 4 * p;
+                const float uncovered = t.match_alpha ? 0.0f : 1.0f - i[3];
+                for (int c = 0; c < 3; ++c)
+                    diff.pixels[4 * p + c] = std::abs(i[c] + uncovered * t.background[c] - t.rgba[4 * p + c]);
+                diff.pixels[4 * p + 3] = 1.0f;
+            }
+            image::WriteOptions diff_options;
+            diff_options.png_exposure_stops = exposure;
+            image::writeImage(framePath(difference_pattern, t.frame), diff, diff_options);
+        }
+    }
+}
+
+}  // namespace
+
+void registerFitCommand(CLI::App& app) {
+    struct Args {
+        std::string package, out, frames, image, difference;
+        std::optional<int> frame;
+        TargetFlags target;
+        std::vector<std::string> fix;
+        fit::FitOptions options;
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* cmd = app.add_subcommand(
+        "fit", "Find the look (T_c, k_s, k_f, per-bin emission, light) whose image best matches a target");
+    cmd->add_option("PACKAGE", args->package, ".firelook package")->required()->check(CLI::ExistingFile);
+    CLI::Option* frame = cmd->add_option("--frame", args->frame, "frame the target shows");
+    CLI::Option* frames = cmd->add_option("--frames", args->frames,
+                                          "several frames, A-B ranges and single frames comma-separated: one look "
+                                          "for all of them (--target and --mask then need '#' for the frame number)");
+    frame->excludes(frames);
+    frames->excludes(frame);
+    cmd->add_option("--target", args->target.target,
+                    "target image: .exr linear premultiplied RGBA (alpha matched unless opaque) or .png (fitted "
+                    "through the display transform render uses for PNG); '#'s stand for the frame number")
+        ->required();
+    cmd->add_option("--mask", args->target.mask, "weight per pixel from the mask's red channel (0 leaves a pixel out)");
+    cmd->add_option("--background", args->target.background,
+                    "R,G,B (linear) the target was composited over; its alpha is then not matched "
+                    "(an opaque target without it: black)");
+    cmd->add_option("--fix", args->fix, "hold a parameter: T_c=V, k_s=V or k_f=V (repeatable)");
+    cmd->add_option("--smooth", args->options.smoothness,
+                    "weight of the emission's second differences across bins (0: each bin free)")
+        ->capture_default_str();
+    cmd->add_option("--alpha-weight", args->options.alpha_weight, "weight of the alpha error against the colour's")
+        ->capture_default_str();
+    cmd->add_option("--starts", args->options.starts, "grid points the local search starts from")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 1000));
+    cmd->add_option("--exposure", args->target.exposure,
+                    "stops the target (PNG) was exposed by; the look renders it with render --exposure E")
+        ->capture_default_str();
+    addOutputOption(*cmd, args->out, "look file to write (JSON)")->required();
+    cmd->add_option("--image", args->image, "also write the fitted look's image (.exr or .png; '#' = frame)");
+    cmd->add_option("--difference", args->difference, "also write |fit - target| (.exr or .png; '#' = frame)");
+    cmd->callback([args] {
+        if (!args->frame && args->frames.empty()) throw std::invalid_argument("fit: give --frame F or --frames A-B");
+        if (!std::isfinite(args->target.exposure)) throw std::invalid_argument("--exposure must be finite");
+        for (const std::string& f : args->fix) applyFix(f, args->options);
+        const auto start = std::chrono::steady_clock::now();
+        const basis::BasisPackage package = basis::BasisPackage::open(args->package);
+        const basis::BakeDescription& d = package.description();
+
+        std::vector<int> selected;
+        if (args->frame) {
+            selected.push_back(*args->frame);
+        } else {
+            for (const auto& [first, last] : bake::parseFrameRanges(args->frames))
+                for (int f = first; f <= last; ++f) selected.push_back(f);
+        }
+        for (int f : selected)
+            if (!d.findFrame(f)) throw std::invalid_argument(args->package + ": has no frame " + std::to_string(f));
+        if (selected.size() > 1 && args->target.target.find('#') == std::string::npos)
+            throw std::invalid_argument("--target " + args->target.target +
+                                        ": several frames need one target each ('#' for the frame number)");
+
+        std::vector<fit::FrameTarget> targets;
+        std::vector<basis::ResidentFrame> resident;
+        for (int f : selected) {
+            targets.push_back(readTarget(args->target, f, d));
+            resident.push_back(package.loadResidentFrame(f, std::pmr::get_default_resource()));
+            throwIfInterrupted();
+        }
+        std::vector<const basis::ResidentFrame*> frame_ptrs;
+        for (const basis::ResidentFrame& r : resident) frame_ptrs.push_back(&r);
+
+        const auto fit_start = std::chrono::steady_clock::now();
+        ProgressBar bar("fit");
+        const fit::FitResult result = fit::fitLook(d, frame_ptrs, targets, args->options, [&](double fraction) {
+            throwIfInterrupted();
+            bar.update(fraction);
+        });
+        const double fit_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - fit_start).count();
+        throwIfInterrupted();  // before anything is written
+        bar.finish();
+
+        writeOutputs(args->image, args->difference, args->target.exposure, d, targets, result);
+        saveLook(args->out, result.look);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+        const Look& look = result.look;
+        const bool alpha = targets.front().match_alpha;
+        std::printf("fit %zu frame(s) of %s to %s: relative RMSE %.4f%% (linear RGB%s)", targets.size(),
+                    args->package.c_str(), args->target.target.c_str(), 100.0 * result.relative_rmse,
+                    isPng(args->target.target) ? ", display-weighted fit" : "");
+        if (alpha) std::printf(", alpha RMSE %.5f, max alpha error %.4f", result.alpha_rmse, result.alpha_max_error);
+        std::printf("\n");
+        if (targets.size() > 1)
+            for (const fit::FrameFitError& e : result.frames)
+                std::printf("  frame %d: relative RMSE %.4f%%%s\n", e.frame, 100.0 * e.relative_rmse,
+                            alpha ? (", max alpha error " + std::to_string(e.alpha_max_error)).c_str() : "");
+        std::printf("  T_c %.6g  k_s %.6g  k_f %.6g  (baked T_c [%g, %g], k_s [%g, %g], k_f [%g, %g])\n",
+                    look.temperature_threshold, look.smoke_extinction, look.flame_extinction,
+                    d.axes.temperature_threshold.front(), d.axes.temperature_threshold.back(),
+                    d.axes.smoke_extinction.front(), d.axes.smoke_extinction.back(), d.axes.flame_extinction.front(),
+                    d.axes.flame_extinction.back());
+        const auto& bins = std::get<EmissionBins>(look.emission).emissivity;
+        std::printf("  emissivity at the bin centres (T: r g b):\n");
+        for (int i = 0; i < d.bins.count; ++i)
+            std::printf("    %.4g: %.5g %.5g %.5g\n", d.bins.center(i), bins[i].r, bins[i].g, bins[i].b);
+        for (size_t l = 0; l < look.light_irradiance.size(); ++l)
+            std::printf("  light %zu irradiance: %.5g %.5g %.5g\n", l, look.light_irradiance[l].r,
+                        look.light_irradiance[l].g, look.light_irradiance[l].b);
+        std::printf("  %d extinction settings tried; fit %.3f s, %.3f s in all\n", result.evaluations, fit_seconds,
+                    seconds);
+        std::printf("wrote %s\n", args->out.c_str());
+    });
+}
+
+}  // namespace firelook::cli
