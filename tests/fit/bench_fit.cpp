@@ -4,6 +4,7 @@
 //     back from its image alone: image error (relative RMSE, max alpha error), parameter errors
 //     and fit seconds per look, then medians and worst.
 //   bench_fit blackbody SEQUENCE PACKAGE FRAME SPP OUT.exr [KELVIN_PER_UNIT=1000] [KELVIN_AT_0=300]
+//     (also OUT.png)
 //     A target from outside the model: the reference path tracer with the package's default
 //     extinction and light, but an emission law L_e(T) = Planck's radiance at
 //     K = KELVIN_AT_0 + KELVIN_PER_UNIT * T (linear sRGB, colour and brightness), represented on 128
@@ -12,6 +13,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <memory_resource>
 #include <random>
 #include <string>
@@ -133,7 +135,9 @@ int benchBlackbody(const std::string& sequence_path, const std::string& package_
     image::ImageRGBA img(r.image.width, r.image.height);
     img.pixels = r.image.rgba;
     image::writeImage(out, img);
-    std::printf("wrote %s: blackbody emission K = %g + %g T, %d spp, %.1f s, estimated relative RMSE %.4f\n",
+    // The same as PNG beside it, for the README's picture.
+    image::writeImage(std::filesystem::path(out).replace_extension(".png"), img);
+    std::printf("wrote %s (and .png): blackbody emission K = %g + %g T, %d spp, %.1f s, estimated relative RMSE %.4f\n",
                 out.c_str(), kelvin_at_0, kelvin_per_unit, spp, r.seconds, r.estimated_relative_rmse);
     return 0;
 }
