@@ -82,8 +82,8 @@ struct TargetFlags {
 // exposure undone, each pixel weighted by the sRGB curve's slope at its shown value (so the fit
 // minimises the error as displayed, to first order) and clipped pixels left out. A target opaque
 // everywhere, or any target with --background, is the effect composited over that background
-// (black by default); otherwise its alpha is matched.
-fit::FrameTarget readTarget(const TargetFlags& flags, int frame, const basis::BakeDescription& d) {
+// (black by default); otherwise its alpha is matched. Adds the clipped pixels it left out to `clipped`.
+fit::FrameTarget readTarget(const TargetFlags& flags, int frame, const basis::BakeDescription& d, size_t& clipped_pixels) {
     fit::FrameTarget target;
     target.frame = frame;
     const std::string path = framePath(flags.target, frame);
@@ -126,9 +126,15 @@ fit::FrameTarget readTarget(const TargetFlags& flags, int frame, const basis::Ba
             for (int c = 0; c < 3; ++c) clipped = clipped || (alpha > 0.0 && t[c] / alpha >= clip);
             const double shown = 0.2126 * t[0] + 0.7152 * t[1] + 0.0722 * t[2];
             const double slope = srgbSlope(shown);
+            if (clipped && target.weight[p] > 0.0f) ++clipped_pixels;
             target.weight[p] = clipped ? 0.0f : static_cast<float>(target.weight[p] * slope * slope);
         }
     }
+    if (std::all_of(target.weight.begin(), target.weight.end(), [](float w) { return w == 0.0f; }))
+        throw std::runtime_error((flags.mask.empty() ? path : framePath(flags.mask, frame)) +
+                                 ": leaves no pixel of frame " + std::to_string(frame) + " to fit (" +
+                                 (flags.mask.empty() ? "every pixel is clipped" : "the mask is 0 everywhere") +
+                                 (flags.mask.empty() || !isPng(path) ? "" : " or clipped") + ")");
     const float unexpose = static_cast<float>(std::exp2(-flags.exposure));
     for (size_t p = 0; p < pixels; ++p)
         for (int c = 0; c < 3; ++c) target.rgba[4 * p + c] *= unexpose;
@@ -146,7 +152,11 @@ void writeOutputs(const std::string& image_pattern, const std::string& differenc
         if (!image_pattern.empty()) {
             image::ImageRGBA out(d.width, d.height);
             out.pixels = result.images[f];
-            if (!t.match_alpha) options.png_background = std::array<float, 3>{t.background.r, t.background.g, t.background.b};
+            // The PNG writer composites after the exposure: the background as given, not as fitted.
+            if (!t.match_alpha) {
+                const Rgb shown = t.background * static_cast<float>(std::exp2(exposure));
+                options.png_background = std::array<float, 3>{shown.r, shown.g, shown.b};
+            }
             image::writeImage(framePath(image_pattern, t.frame), out, options);
         }
         if (!difference_pattern.empty()) {
@@ -232,8 +242,9 @@ void registerFitCommand(CLI::App& app) {
 
         std::vector<fit::FrameTarget> targets;
         std::vector<basis::ResidentFrame> resident;
+        size_t clipped = 0;
         for (int f : selected) {
-            targets.push_back(readTarget(args->target, f, d));
+            targets.push_back(readTarget(args->target, f, d, clipped));
             resident.push_back(package.loadResidentFrame(f, std::pmr::get_default_resource()));
             throwIfInterrupted();
         }
@@ -261,6 +272,10 @@ void registerFitCommand(CLI::App& app) {
                     isPng(args->target.target) ? ", display-weighted fit" : "");
         if (alpha) std::printf(", alpha RMSE %.5f, max alpha error %.4f", result.alpha_rmse, result.alpha_max_error);
         std::printf("\n");
+        // A clipped pixel says only that its value was at least the clip: it is left out, so a target
+        // clipped over its core constrains the hottest bins at the core's edge alone.
+        if (clipped > 0)
+            std::printf("  %zu clipped target pixels left out (a less exposed target constrains them)\n", clipped);
         if (targets.size() > 1)
             for (const fit::FrameFitError& e : result.frames)
                 std::printf("  frame %d: relative RMSE %.4f%%%s\n", e.frame, 100.0 * e.relative_rmse,

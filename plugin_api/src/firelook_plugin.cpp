@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <memory_resource>
 #include <mutex>
 #include <new>
 #include <string>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "fit/look_fit.h"
 #include "gpu_layers.h"
 #include "look/look.h"
 #include "result_table.h"
@@ -571,6 +573,55 @@ FIRELOOK_API fl_result fl_look_get_bin_emissivity(fl_look lh, fl_package ph, flo
                     fail(FL_ERROR_LOOK, look->source_name + ": the emission is not finite at a bin centre");
         for (uint32_t i = 0; i < n; ++i)
             for (int c = 0; c < 3; ++c) rgb[3 * i + c] = e[i][c];
+    });
+}
+
+// ---- inverse design -------------------------------------------------------------
+
+FIRELOOK_API fl_result fl_package_fit_look(fl_package h, const fl_fit_desc* desc_in, fl_look* out,
+                                           fl_fit_report* report) {
+    return guarded("fl_package_fit_look", [&] {
+        checkPointer(out, "out_look");
+        out->id = 0;
+        const fl_fit_desc desc = readIn(desc_in, "desc");
+        if (report) checkStruct(report, "out_report");
+        const auto p = findPackage(h);
+        const basis::BakeDescription& d = p->description();
+        const int slot = slotOrFail(*p, desc.frame);
+        constexpr uint32_t known = FL_FIT_HOLD_TEMPERATURE_THRESHOLD | FL_FIT_HOLD_SMOKE_EXTINCTION |
+                                   FL_FIT_HOLD_FLAME_EXTINCTION | FL_FIT_OVER_BACKGROUND;
+        if (desc.flags & ~known) fail(FL_ERROR_INVALID_ARGUMENT, "desc->flags has unknown bits");
+        checkPointer(desc.target_rgba, "desc->target_rgba");
+        checkFinite(desc.smoothness, "desc->smoothness");
+
+        const size_t pixels = static_cast<size_t>(d.pixelCount());
+        fit::FrameTarget target;
+        target.frame = desc.frame;
+        target.rgba.assign(desc.target_rgba, desc.target_rgba + pixels * 4);
+        if (desc.weights) target.weight.assign(desc.weights, desc.weights + pixels);
+        target.match_alpha = !(desc.flags & FL_FIT_OVER_BACKGROUND);
+        if (!target.match_alpha) target.background = Rgb(desc.background[0], desc.background[1], desc.background[2]);
+        fit::FitOptions options;
+        options.smoothness = desc.smoothness;
+        if (desc.flags & FL_FIT_HOLD_TEMPERATURE_THRESHOLD) options.temperature_threshold = desc.temperature_threshold;
+        if (desc.flags & FL_FIT_HOLD_SMOKE_EXTINCTION) options.smoke_extinction = desc.smoke_extinction;
+        if (desc.flags & FL_FIT_HOLD_FLAME_EXTINCTION) options.flame_extinction = desc.flame_extinction;
+
+        const basis::ResidentFrame frame = p->loadResidentSlot(slot, std::pmr::get_default_resource(), nullptr);
+        const basis::ResidentFrame* frames[] = {&frame};
+        const fit::FitResult r = fit::fitLook(d, frames, std::span(&target, 1), options, [&](double fraction) {
+            if (desc.progress && desc.progress(fraction, desc.progress_user) != 0)
+                fail(FL_ERROR_CANCELLED, "the progress callback stopped the fit");
+        });
+        if (report) {
+            fl_fit_report out_report{};
+            out_report.relative_rmse = r.relative_rmse;
+            out_report.alpha_rmse = r.alpha_rmse;
+            out_report.alpha_max_error = r.alpha_max_error;
+            out_report.evaluations = r.evaluations;
+            writeOut(report, out_report);
+        }
+        addLook(std::make_shared<const Look>(r.look), out);
     });
 }
 

@@ -284,6 +284,11 @@ FitResult fitLook(const basis::BakeDescription& description, std::span<const bas
         projections.emplace_back(description, *frames[f], targets[f]);
         report(0.05 * (f + 1) / frames.size());
     }
+    // With no pixel weighted every look fits equally well (a 0% error on nothing): refuse it.
+    double total_weight = 0.0;
+    for (const FrameProjection& p : projections) total_weight += p.totalWeight();
+    if (!(total_weight > 0.0))
+        throw std::invalid_argument("fitLook: no target pixel has a weight above 0 (an empty mask?): nothing to fit");
     Objective objective(description, projections, options, axes);
 
     // Coarse: every grid point of the searched axes (25% of the progress).

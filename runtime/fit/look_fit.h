@@ -66,7 +66,7 @@ struct FitResult {
 // if given, is called with the fraction done at least every few milliseconds of work; an exception
 // it throws (an interrupt) propagates with nothing left behind. Throws std::invalid_argument for
 // targets that do not fit the package (size, counts, a non-finite value, a fixed value outside
-// its axis, no frame), naming the frame and the problem.
+// its axis, no frame, every pixel's weight 0), naming the frame and the problem.
 FitResult fitLook(const basis::BakeDescription& description, std::span<const basis::ResidentFrame* const> frames,
                   std::span<const FrameTarget> targets, const FitOptions& options = {},
                   const std::function<void(double)>& progress = {});

@@ -1,9 +1,12 @@
-// The figures of README "Look fitting: measured" (scripts/bench/fit.sh).
+// The figures of README "Look fitting" (scripts/bench/fit.sh).
 //   bench_fit looks PACKAGE FRAME [COUNT=20] [SEED=1]
 //     COUNT random looks inside the package's baked ranges, each rendered by the runtime and fitted
 //     back from its image alone: image error (relative RMSE, max alpha error), parameter errors
 //     and fit seconds per look, then medians and worst.
 //   bench_fit blackbody SEQUENCE PACKAGE FRAME SPP OUT.exr [KELVIN_PER_UNIT=1000] [KELVIN_AT_0=300]
+//     (also OUT.png)
+//   bench_fit montage OUT.png LAST_SCALE IMAGE...
+//     the images side by side over black, the last scaled by LAST_SCALE (a difference made visible).
 //     A target from outside the model: the reference path tracer with the package's default
 //     extinction and light, but an emission law L_e(T) = Planck's radiance at
 //     K = KELVIN_AT_0 + KELVIN_PER_UNIT * T (linear sRGB, colour and brightness), represented on 128
@@ -12,9 +15,11 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <memory_resource>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "../support/bench_timing.h"
 #include "basis/basis_package.h"
@@ -133,8 +138,39 @@ int benchBlackbody(const std::string& sequence_path, const std::string& package_
     image::ImageRGBA img(r.image.width, r.image.height);
     img.pixels = r.image.rgba;
     image::writeImage(out, img);
-    std::printf("wrote %s: blackbody emission K = %g + %g T, %d spp, %.1f s, estimated relative RMSE %.4f\n",
+    // The same as PNG beside it, for the README's picture.
+    image::writeImage(std::filesystem::path(out).replace_extension(".png"), img);
+    std::printf("wrote %s (and .png): blackbody emission K = %g + %g T, %d spp, %.1f s, estimated relative RMSE %.4f\n",
                 out.c_str(), kelvin_at_0, kelvin_per_unit, spp, r.seconds, r.estimated_relative_rmse);
+    return 0;
+}
+
+// Images side by side over black (one PNG for the README), the last scaled by `last_scale` to make
+// a difference visible; all must have the same height.
+int montage(const std::string& out, double last_scale, const std::vector<std::string>& inputs) {
+    std::vector<image::ImageRGBA> images;
+    int width = 0;
+    for (const std::string& path : inputs) {
+        images.push_back(image::readImage(path));
+        if (images.back().height != images.front().height) throw std::runtime_error(path + ": another height");
+        width += images.back().width;
+    }
+    image::ImageRGBA m(width, images.front().height);
+    int x0 = 0;
+    for (size_t k = 0; k < images.size(); ++k) {
+        const image::ImageRGBA& in = images[k];
+        const float scale = k + 1 == images.size() ? static_cast<float>(last_scale) : 1.0f;
+        for (int y = 0; y < in.height; ++y)
+            for (int x = 0; x < in.width; ++x) {
+                const float* p = in.pixels.data() + 4 * (static_cast<size_t>(y) * in.width + x);
+                float* q = m.pixels.data() + 4 * (static_cast<size_t>(y) * width + x0 + x);
+                for (int c = 0; c < 3; ++c) q[c] = p[c] * scale;  // premultiplied: over black as it is
+                q[3] = 1.0f;
+            }
+        x0 += in.width;
+    }
+    image::writeImage(out, m);
+    std::printf("wrote %s\n", out.c_str());
     return 0;
 }
 
@@ -149,9 +185,12 @@ int main(int argc, char** argv) {
         if (mode == "blackbody" && argc >= 7)
             return benchBlackbody(argv[2], argv[3], std::atoi(argv[4]), std::atoi(argv[5]), argv[6],
                                   argc > 7 ? std::atof(argv[7]) : 1000.0, argc > 8 ? std::atof(argv[8]) : 300.0);
+        if (mode == "montage" && argc >= 5)
+            return montage(argv[2], std::atof(argv[3]), std::vector<std::string>(argv + 4, argv + argc));
         std::fprintf(stderr,
                      "usage: bench_fit looks PACKAGE FRAME [COUNT] [SEED]\n"
-                     "       bench_fit blackbody SEQUENCE PACKAGE FRAME SPP OUT.exr [KELVIN_PER_UNIT] [KELVIN_AT_0]\n");
+                     "       bench_fit blackbody SEQUENCE PACKAGE FRAME SPP OUT.exr [KELVIN_PER_UNIT] [KELVIN_AT_0]\n"
+                     "       bench_fit montage OUT.png LAST_SCALE IMAGE...\n");
         return 2;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "bench_fit: error: %s\n", e.what());

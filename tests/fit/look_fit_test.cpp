@@ -166,6 +166,19 @@ TEST(LookFit, RefusesTargetsThatDoNotFit) {
     EXPECT_THROW(f.fit(t), std::invalid_argument);
 }
 
+TEST(LookFit, RefusesAMaskThatLeavesNoPixel) {
+    const Fixture f;
+    std::mt19937 rng(13);
+    FrameTarget t = f.render(test::randomLook(rng, f.d.bins.count));
+    t.weight.assign(static_cast<size_t>(f.d.pixelCount()), 0.0f);
+    try {
+        f.fit(t);
+        FAIL() << "no error for a target with no weighted pixel";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("no target pixel"), std::string::npos) << e.what();
+    }
+}
+
 TEST(LookFit, ABlackTargetGivesNoEmissionAndNoNaN) {
     const Fixture f;
     FrameTarget t;

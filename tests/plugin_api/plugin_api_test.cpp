@@ -16,15 +16,18 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <memory_resource>
 #include <mutex>
 #include <glm/gtc/packing.hpp>
 #include <set>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "../support/temp_dir.h"
 #include "basis/look_renderer.h"
 #include "common/error.h"
+#include "fit/look_fit.h"
 #include "result_table.h"  // plugin_api/src: the error table and the struct rule, tested directly
 #include "struct_rule.h"
 #include "synthetic_package.h"
@@ -210,7 +213,7 @@ TEST(PluginApiInit, VersionAndStructSizesAreChecked) {
 }
 
 TEST(PluginApiInit, ResultStrings) {
-    for (fl_result r = FL_ERROR_INTERNAL; r <= FL_OK; ++r) EXPECT_STRNE(fl_result_string(r), "FL_ERROR_UNKNOWN") << r;
+    for (fl_result r = FL_ERROR_CANCELLED; r <= FL_OK; ++r) EXPECT_STRNE(fl_result_string(r), "FL_ERROR_UNKNOWN") << r;
     EXPECT_STREQ(fl_result_string(12345), "FL_ERROR_UNKNOWN");
     EXPECT_STREQ(fl_result_string(FL_ERROR_INVALID_HANDLE), "FL_ERROR_INVALID_HANDLE");
 }
@@ -230,8 +233,8 @@ TEST(PluginApiInit, EveryResultInTheListHasItsOwnName) {
         EXPECT_STREQ(fl_result_string(e.value), e.name);
         EXPECT_TRUE(values.insert(e.value).second) << e.name << " repeats a value";
     }
-    EXPECT_EQ(values.size(), 18u);
-    for (fl_result unknown : {-18, 1, INT32_MIN, INT32_MAX, -1000})
+    EXPECT_EQ(values.size(), 19u);
+    for (fl_result unknown : {-19, 1, INT32_MIN, INT32_MAX, -1000})
         EXPECT_STREQ(fl_result_string(unknown), "FL_ERROR_UNKNOWN") << unknown;
 }
 
@@ -888,6 +891,113 @@ TEST_F(PluginApiWorld, ABadPackageIsCorruptAndTheMessageNamesTheFile) {
     EXPECT_EQ(fl_world_update(world_, 0.0), FL_ERROR_CORRUPT) << fl_last_error();
     destroyWorld();
     EXPECT_EQ(fl_package_release(p), FL_OK);
+}
+
+// Frame 4's image of `look`, as an instance paused there shows it.
+std::vector<float> shownImage(fl_world world, fl_package package, fl_look look) {
+    fl_instance inst{};
+    createPausedImageInstance(world, package, look, &inst);
+    std::vector<float> image(16 * 12 * 4);
+    EXPECT_EQ(fl_world_update(world, 0.0), FL_OK) << fl_last_error();
+    EXPECT_EQ(fl_instance_get_image(world, inst, image.data(), image.size()), FL_OK) << fl_last_error();
+    EXPECT_EQ(fl_instance_destroy(world, inst), FL_OK);
+    return image;
+}
+
+// fl_package_fit_look (issue 17): the runtime's fit (runtime/fit/look_fit.h, whose accuracy tests/fit
+// measures on a baked package: the synthetic package's random basis images render mostly clamped
+// negative radiance, which no linear fit reproduces) on the package's frame, bit for bit, and a look
+// that draws the error the report gives; progress is reported and can stop the fit.
+TEST_F(PluginApiWorld, FitLookIsTheRuntimesFit) {
+    fl_look look{};
+    ASSERT_EQ(fl_look_from_json(kLookJson, 0, "test look", &look), FL_OK) << fl_last_error();
+    const std::vector<float> target = shownImage(world_, package_, look);
+    EXPECT_EQ(fl_look_release(look), FL_OK);
+    struct Progress {
+        int calls = 0;
+        double last = -1.0;
+        bool monotone = true;
+    } progress;
+    fl_fit_desc desc = fl_fit_desc_defaults();
+    desc.frame = 4;
+    desc.target_rgba = target.data();
+    desc.progress = [](double fraction, void* user) -> int32_t {
+        auto& p = *static_cast<Progress*>(user);
+        ++p.calls;
+        p.monotone = p.monotone && fraction >= p.last && fraction <= 1.0;
+        p.last = fraction;
+        return 0;
+    };
+    desc.progress_user = &progress;
+    fl_fit_report report = fl_fit_report_defaults();
+    fl_look fitted{};
+    ASSERT_EQ(fl_package_fit_look(package_, &desc, &fitted, &report), FL_OK) << fl_last_error();
+    EXPECT_GT(progress.calls, 2);
+    EXPECT_TRUE(progress.monotone);
+    EXPECT_EQ(progress.last, 1.0);
+    EXPECT_GE(report.evaluations, 6 * 4 * 3) << "every grid point of the synthetic package, then the local search";
+
+    const auto package = firelook::basis::BasisPackage::open(path_);
+    const firelook::basis::ResidentFrame frame = package.loadResidentFrame(4, std::pmr::get_default_resource());
+    const firelook::basis::ResidentFrame* frames[] = {&frame};
+    firelook::fit::FrameTarget t;
+    t.frame = 4;
+    t.rgba = target;
+    const firelook::fit::FitResult expected = firelook::fit::fitLook(package.description(), frames, std::span(&t, 1));
+    std::string json(4096, '\0');
+    size_t size = 0;
+    ASSERT_EQ(fl_look_to_json(fitted, json.data(), json.size(), &size), FL_OK) << fl_last_error();
+    json.resize(size - 1);
+    EXPECT_EQ(json, firelook::lookToJson(expected.look));
+    EXPECT_EQ(report.relative_rmse, expected.relative_rmse);
+    EXPECT_EQ(report.alpha_max_error, expected.alpha_max_error);
+    EXPECT_EQ(report.evaluations, expected.evaluations);
+
+    // The look handle draws the reported error (the world's image is the runtime's render, bit for bit).
+    const std::vector<float> again = shownImage(world_, package_, fitted);
+    double squared = 0.0, energy = 0.0;
+    for (size_t i = 0; i < target.size(); ++i) {
+        if (i % 4 == 3) continue;
+        squared += (double(again[i]) - target[i]) * (double(again[i]) - target[i]);
+        energy += double(target[i]) * target[i];
+    }
+    EXPECT_NEAR(std::sqrt(squared / energy), report.relative_rmse, 1e-6 + 1e-4 * report.relative_rmse);
+    EXPECT_EQ(fl_look_release(fitted), FL_OK);
+
+    // A callback that asks to stop: FL_ERROR_CANCELLED and no look.
+    desc.progress = [](double, void*) -> int32_t { return 1; };
+    fitted.id = 7;
+    EXPECT_EQ(fl_package_fit_look(package_, &desc, &fitted, nullptr), FL_ERROR_CANCELLED);
+    EXPECT_EQ(fitted.id, 0u);
+    EXPECT_NE(std::string(fl_last_error()).find("stopped"), std::string::npos) << fl_last_error();
+}
+
+TEST_F(PluginApiWorld, FitLookRefusesBadInput) {
+    std::vector<float> target(16 * 12 * 4, 0.1f);
+    const std::vector<float> no_weight(16 * 12, 0.0f);
+    fl_look fitted{};
+    const auto fitWith = [&](auto change) {
+        fl_fit_desc desc = fl_fit_desc_defaults();
+        desc.frame = 4;
+        desc.target_rgba = target.data();
+        change(desc);
+        return fl_package_fit_look(package_, &desc, &fitted, nullptr);
+    };
+    EXPECT_EQ(fitWith([](fl_fit_desc& d) { d.frame = 9; }), FL_ERROR_NOT_FOUND);
+    EXPECT_EQ(fitWith([](fl_fit_desc& d) { d.flags = 1u << 7; }), FL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(fitWith([](fl_fit_desc& d) { d.target_rgba = nullptr; }), FL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(fitWith([&](fl_fit_desc& d) { d.weights = no_weight.data(); }), FL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(fl_last_error()).find("no target pixel"), std::string::npos) << fl_last_error();
+    EXPECT_EQ(fitWith([](fl_fit_desc& d) {
+                  d.flags = FL_FIT_HOLD_SMOKE_EXTINCTION;
+                  d.smoke_extinction = 30.0;  // the axis is [2, 16]
+              }),
+              FL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(fl_last_error()).find("k_s"), std::string::npos) << fl_last_error();
+    EXPECT_EQ(fitWith([](fl_fit_desc& d) { d.struct_size = 8; }), FL_ERROR_STRUCT_SIZE);
+    target[5] = std::nanf("");
+    EXPECT_EQ(fitWith([](fl_fit_desc&) {}), FL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(fitted.id, 0u);
 }
 
 }  // namespace

@@ -124,7 +124,8 @@ extern "C" {
     X(FL_ERROR_NO_DATA, -14)          /* output not enabled, or no fl_world_update since it was */       \
     X(FL_ERROR_NOT_FOUND, -15)        /* no such frame in the package, or no camera recorded in it */    \
     X(FL_ERROR_LIMIT, -16)            /* too many objects of one kind */                                 \
-    X(FL_ERROR_INTERNAL, -17)         /* a bug: please report with fl_last_error() */
+    X(FL_ERROR_INTERNAL, -17)         /* a bug: please report with fl_last_error() */                     \
+    X(FL_ERROR_CANCELLED, -18)        /* a progress callback asked to stop (fl_package_fit_look) */
 
 typedef int32_t fl_result;
 #define FIRELOOK_RESULT_ENUMERATOR(name, value) name = value,
@@ -313,6 +314,57 @@ FIRELOOK_API fl_result fl_look_to_json(fl_look look, char* buffer, size_t capaci
    number of bins: FL_ERROR_LOOK. */
 FIRELOOK_API fl_result fl_look_get_bin_emissivity(fl_look look, fl_package package, float* rgb, uint32_t capacity,
                                                   uint32_t* out_count);
+
+/* ---- inverse design: the look that matches a target image ---------------- */
+
+/* fl_fit_desc.flags. */
+enum {
+    FL_FIT_HOLD_TEMPERATURE_THRESHOLD = 1, /* hold T_c at fl_fit_desc.temperature_threshold */
+    FL_FIT_HOLD_SMOKE_EXTINCTION = 2,      /* hold k_s at smoke_extinction */
+    FL_FIT_HOLD_FLAME_EXTINCTION = 4,      /* hold k_f at flame_extinction */
+    FL_FIT_OVER_BACKGROUND = 8             /* the target is opaque, composited over background: alpha not matched */
+};
+
+/* Called on the fitting thread with the fraction done (0 to 1) at least every few milliseconds of
+   work; a nonzero return stops the fit (FL_ERROR_CANCELLED, no look made). */
+typedef int32_t (*fl_fit_progress_fn)(double fraction, void* user);
+
+/* One frame's target. First published size: through progress_user. */
+typedef struct fl_fit_desc {
+    uint32_t struct_size;
+    int32_t frame;              /* the frame number the target shows */
+    /* width x height x 4 floats at the package's image size (fl_package_info): linear RGBA,
+       premultiplied, top row first, as fl_instance_get_image gives; every value finite. */
+    const float* target_rgba;
+    /* width x height weights, each finite and >= 0 (0 leaves a pixel out); null: 1 everywhere. At least
+       one must be above 0. */
+    const float* weights;
+    uint32_t flags;             /* FL_FIT_* bits; other bits are refused */
+    float background[3];        /* linear RGB, >= 0, with FL_FIT_OVER_BACKGROUND */
+    /* Held values (inside the package's baked ranges), read where flags say so. */
+    double temperature_threshold, smoke_extinction, flame_extinction;
+    double smoothness;          /* weight of the emission's second differences across bins; 0: each bin free */
+    fl_fit_progress_fn progress; /* may be null */
+    void* progress_user;
+} fl_fit_desc;
+
+/* What a fit reached. First published size: through evaluations. */
+typedef struct fl_fit_report {
+    uint32_t struct_size;       /* in: sizeof(fl_fit_report); kept */
+    double relative_rmse;       /* sqrt(sum W |rgb - t|^2 / sum W |t|^2), linear RGB, the look as rendered */
+    double alpha_rmse;          /* sqrt(sum W (alpha - alpha_t)^2 / sum W); 0 when alpha is not matched */
+    double alpha_max_error;     /* over pixels with W > 0; 0 when alpha is not matched */
+    int32_t evaluations;        /* extinction settings tried */
+} fl_fit_report;
+
+/* Thread-safe (a fit of one 256x256 frame takes seconds: call it from a worker thread). The look inside the
+   package's baked ranges whose image of the frame best matches the target (T_c, k_s, k_f, per-bin
+   emission >= 0, the lights' irradiance), as firelook fit finds it (docs/cli.md, "firelook fit"); the same
+   inputs give the same look. The new look goes to *out_look (release it with fl_look_release); out_report
+   may be null. A target of another size, a bad weight or value, weights all 0, a held value outside its
+   range, unknown flags: FL_ERROR_INVALID_ARGUMENT; no such frame: FL_ERROR_NOT_FOUND. */
+FIRELOOK_API fl_result fl_package_fit_look(fl_package package, const fl_fit_desc* desc, fl_look* out_look,
+                                           fl_fit_report* out_report);
 
 /* ---- worlds and instances ---------------------------------------------- */
 
@@ -512,6 +564,16 @@ FIRELOOK_INLINE fl_package_memory_desc fl_package_memory_desc_defaults(void) {
 FIRELOOK_INLINE fl_camera fl_camera_defaults(void) {
     fl_camera d = FIRELOOK_ZERO;
     d.struct_size = (uint32_t)sizeof(fl_camera);
+    return d;
+}
+FIRELOOK_INLINE fl_fit_desc fl_fit_desc_defaults(void) {
+    fl_fit_desc d = FIRELOOK_ZERO;
+    d.struct_size = (uint32_t)sizeof(fl_fit_desc);
+    return d;
+}
+FIRELOOK_INLINE fl_fit_report fl_fit_report_defaults(void) {
+    fl_fit_report d = FIRELOOK_ZERO;
+    d.struct_size = (uint32_t)sizeof(fl_fit_report);
     return d;
 }
 FIRELOOK_INLINE fl_instance_state fl_instance_state_defaults(void) {
