@@ -143,7 +143,10 @@ TEST_F(FireLightsApi, RefusesBadHandlesArgumentsAndSizes) {
                                          firelook::plugin::FirstSize<fl_fire_light>::value - 1, 4, nullptr),
               FL_ERROR_STRUCT_SIZE);
     fl_look other_albedo{};
-    ASSERT_EQ(fl_look_from_json(R"({"format": "firelook-look", "version": 1, "albedo": 0.2})", 0, "a", &other_albedo), FL_OK);
+    firelook::Look wrong = firelook::runtime::Package::open(path_)->defaultLook();
+    wrong.albedo = 0.2;
+    const std::string wrong_json = firelook::lookToJson(wrong);
+    ASSERT_EQ(fl_look_from_json(wrong_json.c_str(), 0, "a", &other_albedo), FL_OK) << fl_last_error();
     EXPECT_EQ(fl_package_get_fire_lights(package_, 1, other_albedo, 1, lights, size, 4, nullptr), FL_ERROR_LOOK);
     EXPECT_NE(std::string(fl_last_error()).find("albedo"), std::string::npos) << fl_last_error();
     ASSERT_EQ(fl_package_release(package_), FL_OK);
