@@ -25,6 +25,8 @@ struct FrameBakeReport {
     size_t detailed_pixels = 0;       // pixels that keep all their footprint rays
     double alpha_storage_bound = 0.0;  // largest alpha error the stored depths can add
     uint64_t u_bytes = 0, svt_bytes = 0, depth_bytes = 0;  // the frame's sections in the package
+    uint64_t fire_light_bytes = 0;     // its fire lights' section (not recorded in META)
+    double fire_light_seconds = 0.0;
     int scattering_orders = 0;
     double last_order_fraction = 0.0;
     double trace_seconds = 0.0;

@@ -42,6 +42,7 @@ void writeReportJson(const std::string& path, const bake::BakeReport& report) {
                             {"photon_passes", f.photon_seconds},
                             {"camera_rays", f.camera_seconds}}},
                           {"svd_seconds", f.compress_seconds},
+                          {"fire_lights", {{"bytes", f.fire_light_bytes}, {"seconds", f.fire_light_seconds}}},
                           {"active_voxels", f.active_voxels},
                           {"cell_edge_voxels", f.cell_edge_voxels},
                           {"light_spacing_voxels", f.light_spacing_voxels},

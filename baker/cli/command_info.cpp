@@ -11,6 +11,7 @@
 #include "cli/commands.h"
 #include "cli/sequence_options.h"
 #include "package/package_reader.h"
+#include "world/package.h"
 #include "vdb/vdb_sequence.h"
 #include "vdb/volume_frame.h"
 
@@ -36,6 +37,40 @@ bool looksLikePackage(const std::filesystem::path& path) {
     in.read(head, 4);
     return in.gcount() == 4 && static_cast<unsigned char>(head[0]) == 0x89 && head[1] == 'F' && head[2] == 'L' &&
            head[3] == 'K';
+}
+
+// The frames' fire lights (basis/fire_lights.h) for the package's default look, all that are stored;
+// null for a package without them (or one the runtime cannot play: the rest of info still describes it).
+ordered_json fireLightsInfo(const std::filesystem::path& path) {
+    std::shared_ptr<const runtime::Package> p;
+    try {
+        p = runtime::Package::open(path);
+    } catch (const std::exception&) {
+        return nullptr;
+    }
+    const runtime::ResolvedLook& look = p->resolvedDefaultLook();
+    const basis::GridWeights weights = basis::interpolationWeights(p->description().axes, look.extinction);
+    ordered_json frames = ordered_json::array();
+    int stored = 0;
+    for (int slot = 0; slot < p->frameCount(); ++slot) {
+        const basis::FireLightTable* table = p->fireLights(slot);
+        if (!table) continue;
+        stored = table->clusters;
+        std::vector<basis::FireLight> lights(table->clusters);
+        basis::evaluateFireLights(*table, weights, look.rbf, table->clusters, lights.data());
+        ordered_json list = ordered_json::array();
+        for (const basis::FireLight& l : lights)
+            list.push_back({{"position", {l.position.x, l.position.y, l.position.z}},
+                            {"intensity", {l.intensity.r, l.intensity.g, l.intensity.b}},
+                            {"radius", l.radius}});
+        frames.push_back({{"frame", p->frameNumber(slot)}, {"lights", list}});
+    }
+    if (frames.empty()) return nullptr;
+    return {{"stored_per_frame", stored},
+            {"look", "default"},
+            {"units", "world space; intensity: radiant intensity (radiance x world area), fluence I / d^2; "
+                      "radius: RMS distance of the power from position (firelook.h, fl_fire_light)"},
+            {"frames", frames}};
 }
 
 ordered_json packageInfo(const std::filesystem::path& path) {
@@ -83,6 +118,7 @@ ordered_json packageInfo(const std::filesystem::path& path) {
             info["inputs"] = inputs;
         }
     }
+    if (ordered_json lights = fireLightsInfo(path); !lights.is_null()) info["fire_lights"] = lights;
     return info;
 }
 
@@ -181,6 +217,9 @@ void printPackage(const ordered_json& info) {
         std::printf("  stored bytes per frame: mean %.1f KiB, largest %.1f KiB (%zu frames)\n",
                     total / 1024.0 / info["bytes_by_frame"].size(), largest / 1024.0, info["bytes_by_frame"].size());
     }
+    if (info.contains("fire_lights"))
+        std::printf("  fire lights: %d per frame in %zu frames (default look's under \"fire_lights\" in --json)\n",
+                    info["fire_lights"]["stored_per_frame"].get<int>(), info["fire_lights"]["frames"].size());
     if (info.contains("inputs"))
         std::printf("  baked with settings xxh3 %s from %zu frame files (their xxh3 under \"inputs\" in --json)\n",
                     info["inputs"].front()["settings_xxh3_64"].get<std::string>().c_str(), info["inputs"].size());

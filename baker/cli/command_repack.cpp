@@ -46,6 +46,9 @@ void registerRepackCommand(CLI::App& app) {
             const int frame = d.frames[i].frame;
             const basis::StoredFrame stored = writeFrameFactors(writer, d, in.loadFrame(frame), args->storage);
             after += stored.bytes();
+            // The fire lights do not depend on the storage precision: copied as stored.
+            if (const package::SectionInfo* s = in.reader().find(basis::kSectionFireLights, static_cast<uint32_t>(frame)))
+                after += writer.addStoredSection(*s, in.reader().stored(*s)).stored_size;
             frames.push_back({{"frame", frame},
                               {"storage_relative_error", std::hypot(stored.u_error, stored.svt_error)},
                               {"pixels_with_footprint_rays", stored.detailed_pixels},

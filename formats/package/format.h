@@ -24,7 +24,7 @@ constexpr uint32_t makeFourCC(char a, char b, char c, char d) {
 // Only the major version decides compatibility; a minor bump may add sections, codecs or flags
 // that an older reader of the same major either skips (optional) or refuses (required).
 inline constexpr uint16_t kFormatMajor = 1;
-inline constexpr uint16_t kFormatMinor = 0;
+inline constexpr uint16_t kFormatMinor = 1;  // 1.1: optional per-frame fire lights (FLIT)
 
 // PNG-style identifier: a non-ASCII first byte, a name, and CR LF / Ctrl-Z / LF that reveal
 // text-mode transfers and 7-bit channels.

@@ -11,10 +11,12 @@
 #include <memory_resource>
 #include <mutex>
 #include <new>
+#include <span>
 #include <string>
 #include <type_traits>
 #include <vector>
 
+#include "basis/fire_lights.h"
 #include "common/error.h"
 #include "fit/look_fit.h"
 #include "gpu_layers.h"
@@ -911,3 +913,77 @@ FIRELOOK_API fl_result fl_instance_get_frame_depths(fl_world w, fl_instance i, f
 }
 
 }  // extern "C"
+
+// ---- the fire as a light source ----------------------------------------------------------------
+
+namespace {
+// The fire lights of a package's frame (by slot) for a look's extinction and emission coefficients
+// (or for `look`, resolved here, when rbf is empty), written with the caller's stride.
+void writeFireLights(const runtime::Package& p, int slot, const Look* look, ExtinctionParams extinction,
+                     std::span<const Rgb> rbf, uint32_t light_count, fl_fire_light* lights, uint32_t sizeof_light,
+                     uint32_t capacity, uint32_t* out_max_count) {
+    const basis::FireLightTable* table = p.fireLights(slot);
+    const uint32_t stored = table ? static_cast<uint32_t>(table->clusters) : 0;
+    if (out_max_count) *out_max_count = stored;
+    if (light_count == 0 && !lights) return;
+    if (!table)
+        fail(FL_ERROR_NOT_FOUND, p.name() + ": frame " + std::to_string(p.frameNumber(slot)) +
+                                     " has no fire lights (baked before them)");
+    if (!basis::validFireLightCount(*table, static_cast<int>(light_count)))
+        fail(FL_ERROR_INVALID_ARGUMENT, "light_count " + std::to_string(light_count) +
+                                            " is not a power of two from 1 to " + std::to_string(stored));
+    checkPointer(lights, "lights");
+    if (sizeof_light < FirstSize<fl_fire_light>::value)
+        fail(FL_ERROR_STRUCT_SIZE, "sizeof_light is " + std::to_string(sizeof_light) + ", expected at least " +
+                                       std::to_string(FirstSize<fl_fire_light>::value));
+    checkCapacity(capacity, light_count, "lights");
+    runtime::ResolvedLook resolved;
+    if (look) {
+        resolved = runtime::resolveLook(*look, p.description());  // LookError
+        extinction = resolved.extinction;
+        rbf = resolved.rbf;
+    }
+    std::vector<basis::FireLight> out(light_count);
+    basis::evaluateFireLights(*table, basis::interpolationWeights(p.description().axes, extinction), rbf,
+                              static_cast<int>(light_count), out.data());
+    for (uint32_t l = 0; l < light_count; ++l) {
+        fl_fire_light v{};
+        for (int i = 0; i < 3; ++i) {
+            v.position[i] = out[l].position[i];
+            v.intensity[i] = out[l].intensity[i];
+        }
+        v.radius = static_cast<float>(out[l].radius);
+        // A guard, as nothing non-finite leaves: the table and the look are checked finite.
+        for (float f : {v.intensity[0], v.intensity[1], v.intensity[2], v.radius})
+            if (!std::isfinite(f)) fail(FL_ERROR_INTERNAL, p.name() + ": a fire light is not finite");
+        std::memcpy(reinterpret_cast<char*>(lights) + size_t{l} * sizeof_light, &v,
+                    std::min<size_t>(sizeof_light, sizeof v));
+    }
+}
+}  // namespace
+
+FIRELOOK_API fl_result fl_package_get_fire_lights(fl_package ph, int32_t frame, fl_look lh, uint32_t light_count,
+                                                  fl_fire_light* lights, uint32_t sizeof_light, uint32_t capacity,
+                                                  uint32_t* out_max_count) {
+    return guarded("fl_package_get_fire_lights", [&] {
+        const auto p = findPackage(ph);
+        const int slot = slotOrFail(*p, frame);
+        const std::shared_ptr<const Look> look = lh.id ? findLook(lh) : nullptr;
+        writeFireLights(*p, slot, look ? look.get() : &p->defaultLook(), {}, {}, light_count, lights, sizeof_light,
+                        capacity, out_max_count);
+    });
+}
+
+FIRELOOK_API fl_result fl_instance_get_fire_lights(fl_world w, fl_instance i, uint32_t light_count,
+                                                   fl_fire_light* lights, uint32_t sizeof_light, uint32_t capacity,
+                                                   uint32_t* out_max_count) {
+    return guarded("fl_instance_get_fire_lights", [&] {
+        const WorldInstance wi = findInstance(w, i);
+        const runtime::InstanceState state = wi.world.state(wi.instance);
+        if (!state.updated) fail(FL_ERROR_NO_DATA, "no fl_world_update since the instance was created");
+        const runtime::Package& p = wi.world.package(wi.instance);
+        // The extinction and emission coefficients the update interpolated: what the image shows.
+        writeFireLights(p, slotOrFail(p, state.frame), nullptr, state.extinction, state.rbf, light_count, lights,
+                        sizeof_light, capacity, out_max_count);
+    });
+}

@@ -105,7 +105,7 @@ std::string makeMetadata(const BakeDescription& description, const std::string& 
 
 package::ReaderOptions BasisPackage::readerOptions() {
     package::ReaderOptions options;
-    options.understood_types = {kSectionU, kSectionSVt, kSectionDepths};
+    options.understood_types = {kSectionU, kSectionSVt, kSectionDepths, kSectionFireLights};
     return options;
 }
 
@@ -180,6 +180,13 @@ void BasisPackage::loadResidentFrame(int frame, ResidentFrame& out, FrameReadBuf
     const std::span<const std::byte> svt = section(kSectionSVt, buffers.svt);
     const std::span<const std::byte> depths = section(kSectionDepths, buffers.depths);
     decodeResidentFrame(description_, frame, rank, u, svt, depths, file().string(), out);
+}
+
+std::optional<FireLightTable> BasisPackage::loadFireLights(int frame) const {
+    const package::SectionInfo* section = reader_.find(kSectionFireLights, static_cast<uint32_t>(frame));
+    if (!section) return std::nullopt;
+    return decodeFireLights(reader_.read(*section), description_.axes.pointCount(), description_.bins.count,
+                            file().string() + ": frame " + std::to_string(frame));
 }
 
 }  // namespace firelook::basis

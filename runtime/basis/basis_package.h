@@ -5,10 +5,12 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 
 #include "basis/bake_description.h"
+#include "basis/fire_lights.h"
 #include "basis/frame_codec.h"
 #include "basis/frame_factors.h"
 #include "package/package_reader.h"
@@ -74,6 +76,9 @@ public:
     // The same into `out`, reusing its buffers and depth table and `buffers` for the sections
     // (frame_codec.h): what a streaming runtime does, with no allocation once warm.
     void loadResidentFrame(int frame, ResidentFrame& out, FrameReadBuffers& buffers) const;
+    // The frame's fire lights (fire_lights.h), or nothing when the package has none for it (packages
+    // baked before them). Throws std::runtime_error naming the file and frame for a damaged section.
+    std::optional<FireLightTable> loadFireLights(int frame) const;
 
 private:
     const FrameRecord& record(int frame) const;  // throws naming the file when there is no such frame

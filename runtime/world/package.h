@@ -59,6 +59,12 @@ class Package {
     // Slot of exactly this frame number, or -1.
     int slotOf(int frame_number) const;
 
+    // The frame's fire lights (basis/fire_lights.h), read and checked at open; null for a package
+    // baked without them.
+    const basis::FireLightTable* fireLights(int slot) const {
+        return fire_lights_[slot] ? &*fire_lights_[slot] : nullptr;
+    }
+
     // Decompresses one frame (by slot). Allocates; not for the hot path. Throws
     // firelook::Error (a section of the wrong shape is Corrupt).
     basis::FrameFactors loadSlot(int slot) const;
@@ -81,6 +87,7 @@ class Package {
     ResolvedLook default_look_;
     std::optional<PackageCamera> camera_;
     std::string camera_problem_;
+    std::vector<std::optional<basis::FireLightTable>> fire_lights_;  // by slot
 };
 
 }  // namespace firelook::runtime

@@ -380,7 +380,7 @@ void imageWithCaption(const char* caption, GLuint texture, float width, float as
     ImGui::EndGroup();
 }
 
-void viewport(ViewerApp& app, float x, float width, float height) {
+void viewport(ViewerApp& app, const FireLightView& fire_lights, float x, float width, float height) {
     ImGui::SetNextWindowPos(ImVec2(x, 0));
     ImGui::SetNextWindowSize(ImVec2(width, height));
     ImGui::Begin("Image", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
@@ -394,6 +394,9 @@ void viewport(ViewerApp& app, float x, float width, float height) {
             const float w = std::min(avail.x, (avail.y - caption) / aspect);
             const char* what = app.compare && app.gpuAvailable() ? "|GPU - CPU| x gain" : app.usingGpu() ? "real time (GPU)" : "real time (CPU)";
             imageWithCaption(what, app.displayTarget().texture(), w, aspect);
+            // The group's rectangle holds the caption above the image: the image is its bottom w x w*aspect.
+            const ImVec2 low(ImGui::GetItemRectMin().x, ImGui::GetItemRectMax().y - w * aspect);
+            drawFireLightMarkers(*s, fire_lights, low, ImVec2(low.x + w, low.y + w * aspect));
         } else {
             // 2 x 2: real time now | reference; the real-time image the QA compares (taken when the
             // reference started) | the error heat map.
@@ -426,12 +429,13 @@ void drawUi(ViewerApp& app, UiState& ui, int window_width, int window_height) {
         if (ImGui::CollapsingHeader("Look", ImGuiTreeNodeFlags_DefaultOpen)) lookPanel(app, ui, *s);
         if (ImGui::CollapsingHeader("Keyframes")) keyframesPanel(app, ui, *s);
         if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) displayPanel(app);
+        if (ImGui::CollapsingHeader("Fire lights")) fireLightPanel(*s, ui.fire_lights);
         if (ImGui::CollapsingHeader("QA: reference", ImGuiTreeNodeFlags_DefaultOpen)) qaPanel(app);
         if (ImGui::CollapsingHeader("Export")) exportPanel(app, ui);
         if (ImGui::CollapsingHeader("Timings", ImGuiTreeNodeFlags_DefaultOpen)) timingsPanel(app);
     }
     ImGui::End();
-    viewport(app, panel, static_cast<float>(window_width) - panel, static_cast<float>(window_height));
+    viewport(app, ui.fire_lights, panel, static_cast<float>(window_width) - panel, static_cast<float>(window_height));
 }
 
 }  // namespace firelook::viewer

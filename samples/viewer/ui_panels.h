@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "fire_light_markers.h"
 #include "viewer_app.h"
 
 namespace firelook::viewer {
@@ -15,6 +16,7 @@ struct UiState {
     std::string keyframes_path = "keyframes.json";
     std::string export_path = "frame.exr";
     std::string export_pattern = "frames/fire_####.exr";
+    FireLightView fire_lights;
 };
 
 // Draws every window for one frame (between ImGui::NewFrame and ImGui::Render).

@@ -273,6 +273,20 @@ TEST(Cli, InfoShowsWhatEachFrameWasBakedFrom) {
     EXPECT_EQ(a[0].at("settings_xxh3_64"), b[0].at("settings_xxh3_64")) << "shards of one bake";
     EXPECT_NE(b[0].at("settings_xxh3_64"), c[0].at("settings_xxh3_64")) << "another seed";
     EXPECT_EQ(b[0].at("xxh3_64"), c[0].at("xxh3_64"));
+    // The fire's point lights (docs/cli.md): per frame, for the default look, each with a finite
+    // position, a non-negative intensity and radius.
+    const json lights = json::parse(runFirelook(dir, "info --json a.firelook").out).at("fire_lights");
+    EXPECT_EQ(lights.at("stored_per_frame"), 8);
+    ASSERT_EQ(lights.at("frames").size(), 2u);
+    EXPECT_EQ(lights.at("frames")[1].at("frame"), 2);
+    ASSERT_EQ(lights.at("frames")[1].at("lights").size(), 8u);
+    double total = 0.0;
+    for (const json& l : lights.at("frames")[1].at("lights")) {
+        ASSERT_EQ(l.at("position").size(), 3u);
+        for (const json& c : l.at("intensity")) total += c.get<double>();
+        EXPECT_GE(l.at("radius").get<double>(), 0.0);
+    }
+    EXPECT_GT(total, 0.0);
 }
 
 TEST(Cli, BakeIntoMissingFolderLeavesNothing) {

@@ -497,6 +497,44 @@ FIRELOOK_API fl_result fl_instance_get_frame_u(fl_world world, fl_instance insta
 FIRELOOK_API fl_result fl_instance_get_frame_depths(fl_world world, fl_instance instance, float* buffer,
                                                     size_t capacity, size_t* out_count);
 
+/* ---- the fire as a light source (issue 16, item 4) ---------------------- */
+
+/* One point light standing for part of the fire's emission after its own absorption (a bake stores, per
+   frame, what these need for any look: runtime/basis/fire_lights.h; packages baked before have none).
+   No struct_size: arrays of it are written with the stride sizeof_light given to the calls below.
+   First published size: through radius. */
+typedef struct fl_fire_light {
+    /* World space (the baked volume's): the centroid of the light's escaping power. Inside the volume's
+       bounds. */
+    double position[3];
+    /* RGB radiant intensity, isotropic: the model's radiance times world area. At distance d it gives
+       the fluence rate intensity / d^2 (radiance integrated over all directions, the irradiance of a
+       small sphere per unit of its cross-section), which is also the irradiance on a surface facing it
+       (times cos for a tilted one): the units of a look's light_irradiance. Finite, >= 0. */
+    float intensity[3];
+    /* World units: the RMS distance of that power from position. Use it as the light's source radius
+       (soft falloff); the inverse-square law holds beyond about two radii. Finite, >= 0. */
+    float radius;
+} fl_fire_light;
+
+/* Thread-safe. The fire lights of a baked frame for a look (0: the package's default look): light_count of
+   them, a power of two from 1 up to the stored count, each the merge of neighbouring stored ones. lights:
+   capacity structs of sizeof_light bytes (pass sizeof(fl_fire_light)); may be null with light_count 0,
+   which only asks: *out_max_count (if not null) gets the stored count, 0 for a package baked without fire
+   lights (then any light_count > 0 gives FL_ERROR_NOT_FOUND). A frame not in the package: FL_ERROR_NOT_FOUND;
+   light_count not a power of two or above the stored count: FL_ERROR_INVALID_ARGUMENT; capacity below it:
+   FL_ERROR_BUFFER_TOO_SMALL; sizeof_light below the first published size: FL_ERROR_STRUCT_SIZE; a look that
+   does not fit the package: FL_ERROR_LOOK. Costs microseconds plus the look's emission fit. */
+FIRELOOK_API fl_result fl_package_get_fire_lights(fl_package package, int32_t frame, fl_look look,
+                                                  uint32_t light_count, fl_fire_light* lights, uint32_t sizeof_light,
+                                                  uint32_t capacity, uint32_t* out_max_count);
+/* The same for what an instance showed at its last update: its frame (fl_instance_state.frame) and the
+   look at its frame position (fl_instance_get_look). FL_ERROR_NO_DATA before the first update. A world
+   call (one thread at a time per world). */
+FIRELOOK_API fl_result fl_instance_get_fire_lights(fl_world world, fl_instance instance, uint32_t light_count,
+                                                   fl_fire_light* lights, uint32_t sizeof_light, uint32_t capacity,
+                                                   uint32_t* out_max_count);
+
 /* ---- start-up and shutdown ---------------------------------------------- */
 
 FIRELOOK_API fl_result fl_init(const fl_init_desc* desc);
