@@ -48,11 +48,12 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         checkKeys(j, {"format", "version", "frames", "size", "bins", "t_lo", "t_hi", "rbf_width", "albedo", "axes",
                       "alpha_threshold_samples", "trace", "compression", "seed", "up", "density_grid",
                       "temperature_grid", "temperature_scale", "temperature_offset", "scene", "camera",
-                      "memory_budget", "lights"},
+                      "memory_budget", "lights", "fire_lights"},
                   "the bake config");
         // "all" is how configToJson records every frame, so a package's recorded settings bake again.
         if (j.contains("frames")) c.frames = j["frames"].get<std::string>() == "all" ? "" : j["frames"].get<std::string>();
         if (j.contains("scene")) c.scene.scene_path = j["scene"].get<std::string>();
+        if (j.contains("fire_lights")) c.fire_lights = j["fire_lights"].get<bool>();
         if (j.contains("lights")) {
             const std::string lights = j["lights"].get<std::string>();
             if (lights != "scene" && lights != "six-way")
@@ -176,6 +177,7 @@ std::string configToJson(const BakeConfig& c) {
     j["up"] = c.scene.up == render::UpAxis::Z ? "z" : "y";
     if (!c.scene.scene_path.empty()) j["scene"] = c.scene.scene_path;
     if (c.scene.camera) j["camera"] = *c.scene.camera;
+    if (c.fire_lights) j["fire_lights"] = true;  // only when set, as "lights"
     if (c.scene.six_way_lights) j["lights"] = "six-way";  // only when set: other bakes keep their settings hash
     j["density_grid"] = c.read.density_grid;
     j["temperature_grid"] = c.read.temperature_grid;

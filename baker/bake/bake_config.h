@@ -38,6 +38,10 @@ struct BakeConfig {
     // A package size or a per-frame error to aim at instead of the settings above as given
     // (storage_target.h; JSON: "compression": {"target_size": "6MiB"} or {"target_error": 0.003}).
     StorageTarget target;
+    // Store each frame's fire lights (runtime/basis/fire_lights.h; firelook bake --fire-lights, JSON
+    // "fire_lights": true): point lights for an engine's scene lighting, about 160 KiB a frame, so
+    // only when asked for.
+    bool fire_lights = false;
     uint64_t seed = 1;
     // Bytes the bake may hold at its peak (firelook bake --memory-budget); 0 = defaultMemoryBudget().
     uint64_t memory_budget_bytes = 0;

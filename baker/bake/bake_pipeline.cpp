@@ -384,14 +384,16 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         // interrupted bake keeps it.
         package::PackageWriter writer(parts.back());
         const basis::StoredFrame stored = basis::writeEncodedFrame(writer, frame_number, chosen.encoded);
-        // The fire's point lights (basis/fire_lights.h): optional, so older readers skip them.
-        t0 = std::chrono::steady_clock::now();
-        fr.fire_light_bytes = writer
-                                  .addSection(basis::kSectionFireLights, static_cast<uint32_t>(frame_number),
-                                              basis::encodeFireLights(traceFireLights(medium, model)),
-                                              package::Codec::Zstd, false)
-                                  .stored_size;
-        fr.fire_light_seconds = secondsSince(t0);
+        // The fire's point lights (basis/fire_lights.h), when asked for: optional, so older readers skip them.
+        if (config.fire_lights) {
+            t0 = std::chrono::steady_clock::now();
+            fr.fire_light_bytes = writer
+                                      .addSection(basis::kSectionFireLights, static_cast<uint32_t>(frame_number),
+                                                  basis::encodeFireLights(traceFireLights(medium, model)),
+                                                  package::Codec::Zstd, false)
+                                      .stored_size;
+            fr.fire_light_seconds = secondsSince(t0);
+        }
         fr.quantisation_error = std::hypot(chosen.compressed.quantisation_error, stored.u_error, stored.svt_error);
         fr.detailed_pixels = stored.detailed_pixels;
         fr.alpha_storage_bound = stored.alpha_bound;

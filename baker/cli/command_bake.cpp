@@ -72,7 +72,7 @@ void registerBakeCommand(CLI::App& app) {
         double target_error = 0.0;
         uint64_t seed = 1;
         int threads = 0;
-        bool keep_axes = false, resume = false;
+        bool keep_axes = false, resume = false, fire_lights = false;
         SceneFlags scene;
     };
     auto args = std::make_shared<Args>();
@@ -98,6 +98,9 @@ void registerBakeCommand(CLI::App& app) {
     cmd->add_flag("--keep-axes", args->keep_axes,
                   "bake every sample of every look axis, even an axis whose samples cannot change any frame "
                   "(by default such an axis is baked at one sample and the bake says so)");
+    cmd->add_flag("--fire-lights", args->fire_lights,
+                  "also store each frame's fire lights: up to 8 point lights approximating the light the fire "
+                  "sends into the scene, for any look (fl_package_get_fire_lights, info --json; about 160 KiB a frame)");
     cmd->add_flag("--resume", args->resume,
                   "continue an interrupted bake of the same output: the frames it finished (kept in "
                   "OUT.firelook.partial/) are reused when they were baked with the same settings from unchanged files, "
@@ -112,6 +115,7 @@ void registerBakeCommand(CLI::App& app) {
         if (cmd->count("--seed") || args->scene.config.empty()) config.seed = args->seed;
         if (!args->memory_budget.empty()) config.memory_budget_bytes = bake::parseByteSize(args->memory_budget);
         if (args->keep_axes) config.collapse_unused_axes = false;
+        if (args->fire_lights) config.fire_lights = true;
         if (!args->target_size.empty()) config.target = {.package_bytes = bake::parseByteSize(args->target_size)};
         if (cmd->count("--target-error")) config.target = {.basis_error = args->target_error};
         bake::checkStorageTarget(config.target);

@@ -14,7 +14,7 @@ out="${5:-$root/out/bench/fire_lights}"
 "$root/scripts/build.sh" release firelook bench_fire_lights >/dev/null
 firelook="$root/build/release/baker/cli/firelook"
 mkdir -p "$out"
-"$firelook" bake "$root/samples/data/explosion" --up z --frames "$frames" --size 64x64 -o "$out/sample.firelook" >/dev/null
+"$firelook" bake "$root/samples/data/explosion" --up z --frames "$frames" --size 64x64 --fire-lights -o "$out/sample.firelook" >/dev/null
 "$firelook" info "$out/sample.firelook" | grep -E "fire lights|by kind"
 for f in $(seq "${frames%-*}" "${frames#*-}"); do
   "$root/build/release/tests/bake/bench_fire_lights" "$out/sample.firelook" "$root/samples/data/explosion" "$f" \

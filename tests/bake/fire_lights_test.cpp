@@ -209,7 +209,12 @@ TEST(FireLights, RoundTripThroughTheSectionAndRefuseDamage) {
 TEST(FireLights, AreBakedIntoPackagesAndAbsentFromOlderOnes) {
     TempDir dir;
     const auto path = dir / "tiny.firelook";
-    bakePackage(FIRELOOK_SAMPLE_DIR, path, test::tinyConfig(), "test");
+    BakeConfig config = test::tinyConfig();
+    config.fire_lights = true;
+    bakePackage(FIRELOOK_SAMPLE_DIR, path, config, "test");
+    // Without --fire-lights a package holds none.
+    bakePackage(FIRELOOK_SAMPLE_DIR, dir / "none.firelook", test::tinyConfig(), "test");
+    EXPECT_FALSE(basis::BasisPackage::open(dir / "none.firelook").loadFireLights(1));
     const basis::BasisPackage baked = basis::BasisPackage::open(path);
     const std::optional<basis::FireLightTable> table = baked.loadFireLights(1);
     ASSERT_TRUE(table);

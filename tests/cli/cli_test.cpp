@@ -253,7 +253,7 @@ TEST(Cli, MergedShardsEqualTheOneShotBake) {
 TEST(Cli, InfoShowsWhatEachFrameWasBakedFrom) {
     TempDir dir;
     writeTinyConfig(dir);
-    const std::string bake = "bake '" + kSample + "' --size 16x16 --up z --config bake.json";
+    const std::string bake = "bake '" + kSample + "' --size 16x16 --up z --config bake.json --fire-lights";
     ASSERT_EQ(runFirelook(dir, bake + " --frames 1-2 -o a.firelook").exit_code, 0);
     ASSERT_EQ(runFirelook(dir, bake + " --frames 3 -o b.firelook").exit_code, 0);
     ASSERT_EQ(runFirelook(dir, bake + " --frames 3 --seed 7 -o c.firelook").exit_code, 0);
