@@ -2,15 +2,28 @@
 # The README's test command: installs what is missing, builds the normal and the
 # sanitizer (ASan + UBSan) flavours, and runs the whole suite under both; then the
 # thread tests under ThreadSanitizer.
-# Exits non-zero on any failure. Benchmarks are built but not run here.
+# Exits non-zero on any failure. The release flavour builds the benchmarks (so they keep compiling)
+# but does not run them; the sanitizer flavours do not build them (scripts/build.sh).
+# Prints the seconds of each phase at the end: CI must stay well under its 45 minutes
+# (docs/testing.md, "The CI run").
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 start=$(date +%s)
+phase_start=$start
+phases=()
+# phase_done NAME: records how long the phase that just ended took.
+phase_done() {
+  local now; now=$(date +%s)
+  phases+=("$(printf '%-14s %5d s' "$1" $(( now - phase_start )))")
+  phase_start=$now
+}
 "$root/scripts/setup.sh"
+phase_done setup
 jobs="$(nproc 2>/dev/null || echo 2)"
 for flavour in release asan; do
   echo "== build ($flavour)"
   "$root/scripts/build.sh" "$flavour"
+  phase_done "build $flavour"
   echo "== tests ($flavour)"
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
   export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
@@ -20,7 +33,10 @@ for flavour in release asan; do
   # already run under the sanitizers.
   exclude=bench
   [[ "$flavour" == asan ]] && exclude='bench|accuracy|pipeline'
-  ctest --test-dir "$root/build/$flavour" --output-on-failure -j "$jobs" -LE "$exclude"
+  # Per-test seconds in build/<flavour>/ctest-junit.xml: where the time goes when CI grows slow.
+  ctest --test-dir "$root/build/$flavour" --output-on-failure -j "$jobs" -LE "$exclude" \
+    --output-junit "$root/build/$flavour/ctest-junit.xml"
+  phase_done "tests $flavour"
 done
 # ThreadSanitizer (issue 14): only the test of worlds on several threads and the libraries it needs
 # (a whole TSan suite would take as long again); no test is registered where TSan cannot run.
@@ -29,6 +45,7 @@ echo "== build (tsan: thread tests only)"
 echo "== tests (tsan)"
 TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
   ctest --test-dir "$root/build/tsan" --output-on-failure -R '^PluginApiThreads\.'
+phase_done tsan
 # Bounded fuzzing (issue 7) of every reader of files: the package reader, the look file and the VDB
 # front end, FUZZ_SECONDS each (default 30) from the seed corpus in tests/fuzz/corpus (clang, ASan +
 # UBSan). The VDB front end checks a file's structure before OpenVDB 10 parses it
@@ -37,5 +54,7 @@ TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
 if [[ "${FUZZ_SECONDS:-30}" != 0 ]]; then
   echo "== fuzzing (${FUZZ_SECONDS:-30} s per target)"
   FUZZ_BUILD_DIR="$root/build/fuzz" "$root/scripts/fuzz.sh" "${FUZZ_SECONDS:-30}" package_reader look_file vdb_sequence
+  phase_done fuzz
 fi
+printf '   %s\n' "${phases[@]}"
 echo "== all tests passed in $(( $(date +%s) - start )) s"
