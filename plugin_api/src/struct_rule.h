@@ -32,6 +32,7 @@ FIRELOOK_FIRST_SIZE(fl_package_info, flame_extinction_max);
 FIRELOOK_FIRST_SIZE(fl_instance_state, reserved);
 FIRELOOK_FIRST_SIZE(fl_package_memory_desc, flags);
 FIRELOOK_FIRST_SIZE(fl_camera, world_from_camera);
+FIRELOOK_FIRST_SIZE(fl_light_direction_desc, reserved2);
 #undef FIRELOOK_FIRST_SIZE
 
 // The caller's struct_size (the first field of every struct that has one), read without assuming
