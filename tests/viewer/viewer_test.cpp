@@ -58,25 +58,22 @@ std::optional<std::string> displayPrefix() {
     return std::nullopt;
 }
 
+// A fixture package: baked by ctest's fixture, or here with the same arguments when run by hand.
+std::string bakedPackage(const std::string& path, const std::string& bake_args) {
+    if (!std::filesystem::exists(path)) {
+        const std::string command = quote(FIRELOOK_CLI) + " " + bake_args + " > /dev/null 2>&1";
+        EXPECT_EQ(std::system(command.c_str()), 0) << command;
+    }
+    return path;
+}
+
 const std::string& package() {
-    static const std::string path = [] {
-        if (!std::filesystem::exists(FIRELOOK_VIEWER_PACKAGE)) {
-            const std::string command = quote(FIRELOOK_CLI) + " " + FIRELOOK_VIEWER_BAKE_ARGS + " > /dev/null 2>&1";
-            EXPECT_EQ(std::system(command.c_str()), 0) << command;
-        }
-        return std::string(FIRELOOK_VIEWER_PACKAGE);
-    }();
+    static const std::string path = bakedPackage(FIRELOOK_VIEWER_PACKAGE, FIRELOOK_VIEWER_BAKE_ARGS);
     return path;
 }
 
 const std::string& sixWayPackage() {
-    static const std::string path = [] {
-        if (!std::filesystem::exists(FIRELOOK_VIEWER_SIX_WAY_PACKAGE)) {
-            const std::string command = quote(FIRELOOK_CLI) + " " + FIRELOOK_VIEWER_SIX_WAY_BAKE_ARGS + " > /dev/null 2>&1";
-            EXPECT_EQ(std::system(command.c_str()), 0) << command;
-        }
-        return std::string(FIRELOOK_VIEWER_SIX_WAY_PACKAGE);
-    }();
+    static const std::string path = bakedPackage(FIRELOOK_VIEWER_SIX_WAY_PACKAGE, FIRELOOK_VIEWER_SIX_WAY_BAKE_ARGS);
     return path;
 }
 
