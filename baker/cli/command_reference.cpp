@@ -41,13 +41,14 @@ void registerReferenceCommand(CLI::App& app) {
         const bake::BakeConfig config = makeBakeConfig(*cmd, args->scene);
         const vdb::VdbSequence sequence = vdb::VdbSequence::open(args->sequence, config.read);
         const bake::SceneSetup scene = bake::resolveScene(sequence, config.scene);
+        const std::optional<basis::RunTimeLight> light = runTimeLight(*cmd, args->light);
+        if (light && scene.six_way_first_light < 0)
+            throw std::invalid_argument("--light-dir takes the place of the six-way lights: pass --lights six-way");
         const basis::BakeDescription d = bake::describeBake(sequence, config, scene);
         const Look look = args->look.empty() ? parseLook(d.default_look_json, "default look") : loadLook(args->look);
         LookModel model = makeLookModel(look, d.bins, d.rbf_width, d.light_directions);
-        if (const auto light = runTimeLight(*cmd, args->light)) {
+        if (light) {
             // The light itself, where render and the runtime weight the six-way lights' columns.
-            if (scene.six_way_first_light < 0)
-                throw std::invalid_argument("--light-dir takes the place of the six-way lights: pass --lights six-way");
             const auto first = model.lights.begin() + scene.six_way_first_light;
             model.lights.erase(first, first + basis::kSixWayLightCount);
             model.lights.push_back({basis::checkedUnitDirection(*light), light->irradiance});
