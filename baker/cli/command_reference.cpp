@@ -1,5 +1,5 @@
 // firelook reference SEQUENCE --frame F [--look L.json] [--scene S.gltf | --camera ...]
-//                    [--size WxH] --spp N -o IMG
+//                    [--size WxH] [--light-dir X,Y,Z [--light-irradiance R,G,B]] --spp N -o IMG
 // Path-traced ground truth of exactly the model a bake with the same flags uses
 // (same bins, camera and lights; without --look, the same default look).
 #include <cstdio>
@@ -7,6 +7,7 @@
 #include "bake/bake_pipeline.h"
 #include "cli/commands.h"
 #include "cli/interrupt.h"
+#include "cli/light_direction_option.h"
 #include "cli/output_option.h"
 #include "cli/progress_bar.h"
 #include "cli/scene_options.h"
@@ -22,6 +23,7 @@ void registerReferenceCommand(CLI::App& app) {
         int frame = 0, spp = 64;
         uint64_t seed = 1;
         SceneFlags scene;
+        LightDirectionFlags light;
     };
     auto args = std::make_shared<Args>();
     CLI::App* cmd = app.add_subcommand("reference", "Path-trace one frame with a look (unbiased ground truth)");
@@ -33,13 +35,24 @@ void registerReferenceCommand(CLI::App& app) {
     cmd->add_option("--seed", args->seed, "random seed")->capture_default_str();
     addOutputOption(*cmd, args->out, "output image (.exr or .png)")->required();
     addSceneFlags(*cmd, args->scene);
+    addLightDirectionFlags(*cmd, args->light,
+                           "in place of the six-way lights (needs --lights six-way, as the bake it judges)");
     cmd->callback([cmd, args] {
         const bake::BakeConfig config = makeBakeConfig(*cmd, args->scene);
         const vdb::VdbSequence sequence = vdb::VdbSequence::open(args->sequence, config.read);
         const bake::SceneSetup scene = bake::resolveScene(sequence, config.scene);
+        const std::optional<basis::RunTimeLight> light = runTimeLight(*cmd, args->light);
+        if (light && scene.six_way_first_light < 0)
+            throw std::invalid_argument("--light-dir takes the place of the six-way lights: pass --lights six-way");
         const basis::BakeDescription d = bake::describeBake(sequence, config, scene);
         const Look look = args->look.empty() ? parseLook(d.default_look_json, "default look") : loadLook(args->look);
-        const LookModel model = makeLookModel(look, d.bins, d.rbf_width, d.light_directions);
+        LookModel model = makeLookModel(look, d.bins, d.rbf_width, d.light_directions);
+        if (light) {
+            // The light itself, where render and the runtime weight the six-way lights' columns.
+            const auto first = model.lights.begin() + scene.six_way_first_light;
+            model.lights.erase(first, first + basis::kSixWayLightCount);
+            model.lights.push_back({basis::checkedUnitDirection(*light), light->irradiance});
+        }
         throwIfInterrupted();
         const render::Medium medium = bake::mediumFromFrame(sequence.load(args->frame));
         throwIfInterrupted();

@@ -1,10 +1,12 @@
-// firelook render PACKAGE --frame F [--look L.json] -o IMG (.exr or .png)
+// firelook render PACKAGE --frame F [--look L.json] [--light-dir X,Y,Z [--light-irradiance R,G,B]]
+//                 -o IMG (.exr or .png)
 #include <cstdio>
 
 #include "basis/basis_package.h"
 #include "basis/look_renderer.h"
 #include "cli/commands.h"
 #include "cli/interrupt.h"
+#include "cli/light_direction_option.h"
 #include "cli/output_option.h"
 #include "image/image_io.h"
 #include "look/look.h"
@@ -16,6 +18,7 @@ void registerRenderCommand(CLI::App& app) {
         std::string package, look, out;
         int frame = 0;
         double exposure = 0.0;
+        LightDirectionFlags light;
     };
     auto args = std::make_shared<Args>();
     CLI::App* cmd = app.add_subcommand("render", "Recombine one frame of a package with a look into an image");
@@ -25,11 +28,16 @@ void registerRenderCommand(CLI::App& app) {
         ->check(CLI::ExistingFile);
     addOutputOption(*cmd, args->out, "output image, .exr (linear premultiplied RGBA) or .png")->required();
     cmd->add_option("--exposure", args->exposure, "PNG exposure in stops")->capture_default_str();
-    cmd->callback([args] {
+    addLightDirectionFlags(*cmd, args->light,
+                           "in place of the six-way lights of a bake with --lights six-way (weighted, "
+                           "docs/cli.md \"Light from any direction\")");
+    cmd->callback([cmd, args] {
         const basis::BasisPackage package = basis::BasisPackage::open(args->package);
         const basis::BakeDescription& d = package.description();
-        const Look look = args->look.empty() ? parseLook(d.default_look_json, args->package + " (default look)")
+        Look look = args->look.empty() ? parseLook(d.default_look_json, args->package + " (default look)")
                                              : loadLook(args->look);
+        if (const auto light = runTimeLight(*cmd, args->light))
+            basis::applyRunTimeLight(d, *light, args->package, look.light_irradiance);
         // The resident form, as the runtime world draws it.
         const basis::ResidentFrame frame = package.loadResidentFrame(args->frame, std::pmr::get_default_resource());
         image::ImageRGBA image(d.width, d.height);

@@ -12,6 +12,7 @@
 #include <mutex>
 #include <new>
 #include <span>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -870,6 +871,38 @@ FIRELOOK_API fl_result fl_instance_get_look(fl_world w, fl_instance i, fl_look* 
         out->id = 0;
         const WorldInstance wi = findInstance(w, i);
         addLook(std::make_shared<const Look>(wi.world.look(wi.instance)), out);
+    });
+}
+
+namespace {
+void requireSixWayLights(const runtime::Package& p) {
+    if (p.description().six_way_first_light < 0)
+        fail(FL_ERROR_NOT_FOUND, p.name() + ": baked without six-way lights (firelook bake --lights six-way)");
+}
+}  // namespace
+
+FIRELOOK_API fl_result fl_package_get_six_way_lights(fl_package h, int32_t* out_first_light) {
+    return guarded("fl_package_get_six_way_lights", [&] {
+        checkPointer(out_first_light, "out_first_light");
+        const std::shared_ptr<const runtime::Package> p = findPackage(h);
+        requireSixWayLights(*p);
+        *out_first_light = p->description().six_way_first_light;
+    });
+}
+
+FIRELOOK_API fl_result fl_instance_set_light_direction(fl_world w, fl_instance i, const fl_light_direction_desc* desc) {
+    return guarded("fl_instance_set_light_direction", [&] {
+        const WorldInstance wi = findInstance(w, i);
+        if (!desc) {
+            wi.world.setLightDirection(wi.instance, std::nullopt);
+            return;
+        }
+        const fl_light_direction_desc d = readIn(desc, "desc");
+        requireSixWayLights(wi.world.package(wi.instance));
+        basis::RunTimeLight light;
+        light.direction = {d.direction[0], d.direction[1], d.direction[2]};
+        light.irradiance = {d.irradiance[0], d.irradiance[1], d.irradiance[2]};
+        wi.world.setLightDirection(wi.instance, light);  // refuses a zero or non-finite light
     });
 }
 

@@ -35,6 +35,7 @@ FIRELOOK_FIRST_SIZE(fl_camera, world_from_camera);
 FIRELOOK_FIRST_SIZE(fl_fit_desc, progress_user);
 FIRELOOK_FIRST_SIZE(fl_fit_report, evaluations);
 FIRELOOK_FIRST_SIZE(fl_fire_light, radius);
+FIRELOOK_FIRST_SIZE(fl_light_direction_desc, reserved2);
 #undef FIRELOOK_FIRST_SIZE
 
 // The caller's struct_size (the first field of every struct that has one), read without assuming

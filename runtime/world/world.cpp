@@ -115,6 +115,7 @@ InstanceHandle World::create(std::shared_ptr<const Package> package) {
     frame_slot_.push_back(0);
     extinction_.push_back(keys_.back()[0].look.extinction);
     updated_.push_back(0);
+    run_time_light_.emplace_back();
     rbf_.resize(rbf_.size() + bins_stride_);
     lights_.resize(lights_.size() + lights_stride_);
     z_.resize(z_.size() + z_stride_);
@@ -145,6 +146,7 @@ void World::destroy(InstanceHandle h) {
     move_last(frame_slot_);
     move_last(extinction_);
     move_last(updated_);
+    move_last(run_time_light_);
     move_last(image_);
     move_last(flare_);
     move_last_strided(rbf_, bins_stride_);
@@ -200,6 +202,16 @@ void World::setOutputs(InstanceHandle h, const OutputSettings& out) {
     outputs_[dense] = out;
     // New buffers hold nothing valid until the next update.
     updated_[dense] = 0;
+}
+
+void World::setLightDirection(InstanceHandle h, const std::optional<basis::RunTimeLight>& light) {
+    const int dense = denseIndex(h);
+    if (!light) {
+        run_time_light_[dense].reset();
+        return;
+    }
+    const Package& p = *packages_[package_index_[dense]].package;
+    run_time_light_[dense] = basis::relightIrradiance(p.description(), *light, p.name());
 }
 
 const PlaybackSettings& World::playback(InstanceHandle h) const { return playback_[denseIndex(h)]; }
@@ -279,10 +291,15 @@ void World::update(double dt) {
         frame_slot_[i] = p.slotAtOrBelow(frame_position_[i]);
     }
 
-    // 2. Keyframes.
-    for (size_t i = 0; i < n; ++i)
+    // 2. Keyframes, then a run-time light over the six-way lights.
+    for (size_t i = 0; i < n; ++i) {
         sampleKeyframes(keys_[i], frame_position_[i], extinction_[i], rbf_.data() + i * bins_stride_,
                         lights_.data() + i * lights_stride_);
+        if (run_time_light_[i])
+            std::copy(run_time_light_[i]->begin(), run_time_light_[i]->end(),
+                      lights_.data() + i * lights_stride_ +
+                          packages_[package_index_[i]].package->description().six_way_first_light);
+    }
 
     // 3 + 4. Residency and coefficients.
     for (size_t i = 0; i < n; ++i) {
@@ -381,7 +398,12 @@ namespace firelook::runtime {
 
 Look World::look(InstanceHandle h) const {
     const int i = denseIndex(h);
-    return sampledLook(keys_[i], frame_position_[i], packages_[package_index_[i]].package->description());
+    const basis::BakeDescription& d = packages_[package_index_[i]].package->description();
+    Look look = sampledLook(keys_[i], frame_position_[i], d);
+    if (run_time_light_[i])
+        std::copy(run_time_light_[i]->begin(), run_time_light_[i]->end(),
+                  look.light_irradiance.begin() + d.six_way_first_light);
+    return look;
 }
 
 // Frames used by an update are never evicted before the next update (trimCache), so the shown

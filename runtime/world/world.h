@@ -47,11 +47,13 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <utility>
 #include <vector>
 
+#include "basis/relight.h"
 #include "look/look.h"
 #include "world/handle_pool.h"
 #include "world/host_memory.h"
@@ -122,13 +124,20 @@ class World {
     void setKeyframes(InstanceHandle instance, std::span<const std::pair<double, Look>> keys);
     void setPlayback(InstanceHandle instance, const PlaybackSettings& playback);
     void setOutputs(InstanceHandle instance, const OutputSettings& outputs);
+    // A light from a direction chosen at run time (basis/relight.h): from the next update on, the
+    // six-way lights' irradiance of whatever look the instance shows is replaced by the weights of
+    // `light` times its irradiance; it stays across setLook/setKeyframes. nullopt: the look's own
+    // six-way irradiance again. std::invalid_argument (nothing changes) when the package has no
+    // six-way lights or the light is not finite, has a zero direction or a negative irradiance.
+    void setLightDirection(InstanceHandle instance, const std::optional<basis::RunTimeLight>& light);
     const PlaybackSettings& playback(InstanceHandle instance) const;
     const Package& package(InstanceHandle instance) const;
 
     void update(double dt);
     InstanceState state(InstanceHandle instance) const;
     // The look the instance shows at its frame position (the last update's, the package's first
-    // frame before any): sampledLook() of its keys (look_track.h). Allocates.
+    // frame before any): sampledLook() of its keys (look_track.h), with a run-time light's six-way
+    // irradiance (setLightDirection). Allocates.
     Look look(InstanceHandle instance) const;
     // The frame the last update showed, in the cache's resident form: no decode, valid until the
     // next call that changes the world. Null until the first update after creation or setOutputs
@@ -186,6 +195,8 @@ class World {
     std::vector<int> frame_slot_;
     std::vector<ExtinctionParams> extinction_;
     std::vector<uint8_t> updated_;
+    // The six-way lights' irradiance of a run-time light (setLightDirection), else nullopt.
+    std::vector<std::optional<std::array<Rgb, basis::kSixWayLightCount>>> run_time_light_;
     HostVector<Rgb> rbf_;     // dense x bins_stride_
     HostVector<Rgb> lights_;  // dense x lights_stride_
     HostVector<float> z_;     // dense x z_stride_

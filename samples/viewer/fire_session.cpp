@@ -1,5 +1,7 @@
 #include "fire_session.h"
 
+#include <cmath>
+
 #include "fl_check.h"
 
 namespace firelook::viewer {
@@ -26,6 +28,18 @@ std::unique_ptr<FireSession> FireSession::open(const std::string& path) {
     s->default_look_json_.resize(size > 0 ? size - 1 : 0);
     s->look_ = parseLookEdit(s->default_look_json_, path + " (default look)");
 
+    int32_t first = -1;
+    if (fl_package_get_six_way_lights(s->package_, &first) == FL_OK) {
+        s->six_way_first_light_ = first;
+        fl_camera camera = fl_camera_defaults();
+        if (fl_package_get_camera(s->package_, &camera) == FL_OK)
+            for (int c = 0; c < 3; ++c) {  // the rotation's columns, normalised (a scale does not matter)
+                const double* axis = camera.world_from_camera + 4 * c;
+                const double length = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+                for (int r = 0; r < 3 && length > 0.0; ++r) s->camera_rotation_[3 * c + r] = axis[r] / length;
+            }
+    }
+
     const fl_world_desc world_desc = fl_world_desc_defaults();
     check(fl_world_create(&world_desc, &s->world_), "fl_world_create");
     fl_instance_desc desc = fl_instance_desc_defaults();
@@ -51,6 +65,23 @@ void FireSession::setLook(const LookEdit& look) {
         look_ = previous;
         throw;
     }
+}
+
+void FireSession::setLightDirection(const LightDirection& light) {
+    if (!light.enabled) {
+        check(fl_instance_set_light_direction(world_, instance_, nullptr), "fl_instance_set_light_direction");
+    } else {
+        constexpr double kDegree = 3.14159265358979323846 / 180.0;
+        const double az = light.azimuth_degrees * kDegree, el = light.elevation_degrees * kDegree;
+        // Towards the light in the camera frame (+X right, +Y up, +Z towards the viewer); it travels the other way.
+        const double towards[3] = {std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az)};
+        fl_light_direction_desc desc = fl_light_direction_desc_defaults();
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) desc.direction[r] -= camera_rotation_[3 * c + r] * towards[c];
+        for (int c = 0; c < 3; ++c) desc.irradiance[c] = light.irradiance[static_cast<size_t>(c)];
+        check(fl_instance_set_light_direction(world_, instance_, &desc), "fl_instance_set_light_direction");
+    }
+    light_direction_ = light;
 }
 
 void FireSession::setAnimateKeys(bool on) {

@@ -30,6 +30,17 @@ struct FlareSettings {
     bool operator==(const FlareSettings&) const = default;
 };
 
+// A light from a direction chosen at run time (fl_instance_set_light_direction), for packages baked
+// with six-way lights. The angles are in the package camera's frame, towards the light: azimuth 0
+// on the camera's side, 90 from the right; elevation 90 from above, -90 from below.
+struct LightDirection {
+    bool enabled = false;
+    float azimuth_degrees = 45.0f;
+    float elevation_degrees = 30.0f;
+    Rgb3 irradiance{1.0f, 1.0f, 1.0f};
+    bool operator==(const LightDirection&) const = default;
+};
+
 class FireSession {
   public:
     // Loads the package and creates the world and instance with the package's default look.
@@ -59,6 +70,11 @@ class FireSession {
     bool animateKeys() const { return animate_keys_; }
     void setAnimateKeys(bool on);
     void applyLooks();
+
+    // The run-time light (only with six-way lights: hasSixWayLights()). Throws ViewerError.
+    bool hasSixWayLights() const { return six_way_first_light_ >= 0; }
+    const LightDirection& lightDirection() const { return light_direction_; }
+    void setLightDirection(const LightDirection& light);
 
     // Playback: the library advances the time; seek() pauses nowhere by itself.
     bool playing() const { return playback_.paused == 0; }
@@ -100,6 +116,9 @@ class FireSession {
     fl_outputs_desc outputs_ = fl_outputs_desc_defaults();
     fl_instance_state state_ = fl_instance_state_defaults();
     std::vector<float> z_;
+    int six_way_first_light_ = -1;
+    double camera_rotation_[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // world from camera, columns; identity without a camera
+    LightDirection light_direction_;
 };
 
 }  // namespace firelook::viewer

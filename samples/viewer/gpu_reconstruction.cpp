@@ -4,53 +4,9 @@
 #include <string>
 
 #include "fl_check.h"
+#include "reconstruct_shader.h"
 
 namespace firelook::viewer {
-namespace {
-
-const char* kFragmentShader = R"(
-// Layouts (repacked on upload so each texel fetch serves four values, which is what makes the
-// pass fast on llvmpipe and cheap anywhere):
-//   u_factors: layer l, channel c = U[p][4 l + c] (0 beyond the rank), as fl_instance_get_frame_u;
-//   z[3 l + ch] = (z[4 l][ch], z[4 l + 1][ch], z[4 l + 2][ch], z[4 l + 3][ch]);
-//   u_depths: G = ceil(S / 4) groups of four footprint samples per texel; layers 0..G-1 hold
-//   O_b, layer G + j G + g holds O_a(., j) of group g; u_last_mask zeroes the padding samples.
-uniform sampler2DArray u_factors;
-uniform sampler2DArray u_depths;
-layout(std140) uniform Coefficients { vec4 z[3 * MAX_LAYERS]; };
-uniform int u_layers;
-uniform int u_groups;
-uniform int u_samples;
-uniform int u_lower;
-uniform int u_upper;
-uniform float u_t;
-uniform float u_extinction_a;
-uniform float u_extinction_b;
-uniform vec4 u_last_mask;
-out vec4 out_rgba;
-
-void main() {
-    ivec2 p = ivec2(gl_FragCoord.xy);  // target row 0 = the image's top row, as in the package
-    vec3 rgb = vec3(0.0);
-    for (int l = 0; l < u_layers; ++l) {
-        vec4 u = texelFetch(u_factors, ivec3(p, l), 0);
-        rgb += vec3(dot(u, z[3 * l]), dot(u, z[3 * l + 1]), dot(u, z[3 * l + 2]));
-    }
-    float sum = 0.0;
-    for (int g = 0; g < u_groups; ++g) {
-        vec4 o_b = texelFetch(u_depths, ivec3(p, g), 0);
-        vec4 lower = texelFetch(u_depths, ivec3(p, u_groups + u_lower * u_groups + g), 0);
-        vec4 upper = texelFetch(u_depths, ivec3(p, u_groups + u_upper * u_groups + g), 0);
-        vec4 o_a = (1.0 - u_t) * lower + u_t * upper;
-        vec4 tau = u_extinction_a * o_a + u_extinction_b * o_b;
-        vec4 mask = g == u_groups - 1 ? u_last_mask : vec4(1.0);
-        sum += dot(mask, vec4(1.0) - exp(-max(tau, vec4(0.0))));
-    }
-    out_rgba = vec4(max(rgb, vec3(0.0)), sum / float(u_samples));
-}
-)";
-
-}  // namespace
 
 GpuReconstruction::GpuReconstruction(fl_world world, fl_instance instance, const fl_package_info& info,
                                      size_t cache_bytes)
@@ -70,8 +26,9 @@ GpuReconstruction::GpuReconstruction(fl_world world, fl_instance instance, const
                           std::to_string(block_bytes) + "-byte uniform block, this GL allows " +
                           std::to_string(max_block));
 
+    // The two lines the shader file asks its host for (plugin_api/shaders/firelook_reconstruct.glsl).
     const std::string fragment =
-        "#version 330 core\n#define MAX_LAYERS " + std::to_string(max_layers_) + "\n" + kFragmentShader;
+        "#version 330 core\n#define MAX_LAYERS " + std::to_string(max_layers_) + "\n" + kReconstructShader;
     program_ = gl::makeProgram(gl::fullScreenVertexShader(), fragment, "reconstruction");
     glUseProgram(program_);
     glUniform1i(glGetUniformLocation(program_, "u_factors"), 0);

@@ -6,6 +6,8 @@
 // texel, so one fetch serves four samples), and z a std140 uniform block. Both come from the frame
 // the world already holds for the instance (no second decode). Frames' textures are cached (least
 // recently used first out, bounded in bytes) so playback uploads a frame only after eviction.
+// The shader is the plugin's plugin_api/shaders/firelook_reconstruct.glsl (its inputs documented
+// there), embedded at build time.
 #pragma once
 
 #include <cstdint>

@@ -29,13 +29,20 @@ void logToStderr(int32_t level, const char* message, void*) {
     if (level == FL_LOG_WARNING) std::fprintf(stderr, "firelook_viewer: warning: %s\n", message);
 }
 
-// --look, --keyframes, --frame and --play; errors are fatal (the command line asked for them).
+// --look, --keyframes, --light-angles, --frame and --play; errors are fatal (the command line asked for them).
 void applyStartOptions(ViewerApp& app, const Options& o) {
     FireSession& s = *app.session();
     if (!o.look.empty()) s.setLook(parseLookEdit(readTextFile(o.look), o.look));
     if (!o.keyframes.empty()) {
         s.keys() = loadKeyframes(o.keyframes);
         s.setAnimateKeys(true);
+    }
+    if (o.light_angles.size() == 2) {
+        LightDirection light = s.lightDirection();
+        light.enabled = true;
+        light.azimuth_degrees = o.light_angles[0];
+        light.elevation_degrees = o.light_angles[1];
+        s.setLightDirection(light);  // a package without six-way lights: the library's error, naming it
     }
     const fl_package_info& info = s.info();
     if (o.frame_given) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace firelook::viewer {
 
@@ -28,6 +29,7 @@ struct Options {
     float exposure = 0.0f;
     bool flare = false;
     bool compare = false;    // GPU-vs-CPU difference view at start
+    std::vector<float> light_angles;  // azimuth, elevation (degrees): the run-time light on at start
 
     bool batch() const { return frames_to_run > 0; }
 };

@@ -183,6 +183,19 @@ bool emissionEditor(ViewerApp& app, FireSession& s, LookEdit& look) {
     return changed;
 }
 
+// The run-time light (fl_instance_set_light_direction): two angles in the camera's frame and its
+// irradiance; it takes the place of the six-way lights' irradiance of the look.
+void lightDirectionControl(ViewerApp& app, FireSession& s) {
+    LightDirection light = s.lightDirection();
+    bool changed = ImGui::Checkbox("light from a direction (six-way lights)", &light.enabled);
+    changed |= ImGui::SliderFloat("azimuth", &light.azimuth_degrees, -180.0f, 180.0f, "%.0f deg");
+    changed |= ImGui::SliderFloat("elevation", &light.elevation_degrees, -90.0f, 90.0f, "%.0f deg");
+    ImGui::Text("irradiance");
+    ImGui::SameLine();
+    changed |= colourIntensity("direction light", light.irradiance);
+    if (changed) app.editLightDirection(light);
+}
+
 void lookPanel(ViewerApp& app, UiState& ui, FireSession& s) {
     const fl_package_info& info = s.info();
     // Presets: the package's default look and the look files of samples/looks.
@@ -215,6 +228,7 @@ void lookPanel(ViewerApp& app, UiState& ui, FireSession& s) {
         changed |= colourIntensity(id, look.lights[l]);
     }
     if (changed) app.editLook(look);
+    if (s.hasSixWayLights()) lightDirectionControl(app, s);
 
     ImGui::InputText("##lookpath", &ui.look_path);
     ImGui::SameLine();

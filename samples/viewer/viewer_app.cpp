@@ -184,16 +184,25 @@ void ViewerApp::readResult(std::vector<float>& rgba) const {
     (usingGpu() ? gpu_result_ : cpu_result_).readRgba(rgba);
 }
 
-bool ViewerApp::editLook(const LookEdit& look) {
+template <typename Edit>
+bool ViewerApp::sessionEdit(Edit&& edit) {
     if (!session_) return false;
     try {
-        session_->setLook(look);
+        edit(*session_);
         if (status.error) status = {};
         return true;
     } catch (const std::exception& e) {
         setStatus(e.what(), true);
         return false;
     }
+}
+
+bool ViewerApp::editLook(const LookEdit& look) {
+    return sessionEdit([&](FireSession& s) { s.setLook(look); });
+}
+
+bool ViewerApp::editLightDirection(const LightDirection& light) {
+    return sessionEdit([&](FireSession& s) { s.setLightDirection(light); });
 }
 
 bool ViewerApp::applyPreset(const LookPreset& preset) {

@@ -71,8 +71,9 @@ class ViewerApp {
     // read back from its texture.
     void readResult(std::vector<float>& rgba) const;
 
-    // Looks and keyframes; failures go to status.
+    // Looks, keyframes and the run-time light (six-way packages); failures go to status.
     bool editLook(const LookEdit& look);
+    bool editLightDirection(const LightDirection& light);
     const std::vector<LookPreset>& presets() const { return presets_; }
     bool applyPreset(const LookPreset& preset);  // albedo and light count adapted to the package
     bool loadLookFile(const std::string& path);
@@ -122,6 +123,9 @@ class ViewerApp {
     };
 
     void resetGpu();
+    // Runs a session edit; its failure goes to status (and a success clears an error there).
+    template <typename Edit>
+    bool sessionEdit(Edit&& edit);
     void loadPresets(const std::string& folder);
     void applyOutputs();
     void pollQa();

@@ -32,7 +32,10 @@
       fl_instance_get_coefficients() + fl_instance_get_state() with the
       textures from fl_instance_get_frame_u() and fl_instance_get_frame_depths()
       (the frame the world already holds; the fl_package_ variants decode it
-      again). fl_instance_get_look() gives the look an instance shows.
+      again; the shader that uses them: share/firelook/shaders/firelook_reconstruct.glsl,
+      installed with the library). fl_instance_get_look() gives the look an instance shows.
+      A package baked with six-way lights can be lit from any direction at run time:
+      fl_instance_set_light_direction().
    6. Release everything and call fl_shutdown().
 
    Conventions (after sokol_gfx, OpenEXRCore, Dear ImGui and flecs):
@@ -122,7 +125,7 @@ extern "C" {
     X(FL_ERROR_BUFFER_TOO_SMALL, -12) /* the needed size is reported through the size output */          \
     X(FL_ERROR_OUT_OF_MEMORY, -13)                                                                       \
     X(FL_ERROR_NO_DATA, -14)          /* output not enabled, or no fl_world_update since it was */       \
-    X(FL_ERROR_NOT_FOUND, -15)        /* no such frame in the package, or no camera recorded in it */    \
+    X(FL_ERROR_NOT_FOUND, -15)        /* no such frame, camera or six-way lights in the package */       \
     X(FL_ERROR_LIMIT, -16)            /* too many objects of one kind */                                 \
     X(FL_ERROR_INTERNAL, -17)         /* a bug: please report with fl_last_error() */                     \
     X(FL_ERROR_CANCELLED, -18)        /* a progress callback asked to stop (fl_package_fit_look) */
@@ -484,8 +487,9 @@ FIRELOOK_API fl_result fl_instance_get_flare(fl_world world, fl_instance instanc
    constant look or where one keyframe holds, that look exactly as it was set (its JSON is the same);
    between keys, T_c, k_s, k_f and the lights interpolated as the world does and the emission in bins form:
    the interpolated emission the image is made of, at each bin centre (so a reference render of this look
-   shows what the instance shows, even where a key's emission needed the non-negative fit). A world call
-   (one thread at a time per world). */
+   shows what the instance shows, even where a key's emission needed the non-negative fit). With a light
+   from fl_instance_set_light_direction, the six-way lights carry the irradiance it gives them. A world
+   call (one thread at a time per world). */
 FIRELOOK_API fl_result fl_instance_get_look(fl_world world, fl_instance instance, fl_look* out_look);
 /* The U and optical depth layers of the frame the instance's last update showed, taken from the frame the
    world holds for it (its frame cache): no read, no decompression. Layout, sizes, the capacity-0 size query
@@ -534,6 +538,38 @@ FIRELOOK_API fl_result fl_package_get_fire_lights(fl_package package, int32_t fr
 FIRELOOK_API fl_result fl_instance_get_fire_lights(fl_world world, fl_instance instance, uint32_t light_count,
                                                    fl_fire_light* lights, uint32_t sizeof_light, uint32_t capacity,
                                                    uint32_t* out_max_count);
+
+/* ---- light from a direction chosen at run time -------------------------- */
+
+/* Thread-safe. Whether the package was baked with six-way lights (firelook bake --lights six-way):
+   *out_first_light gets the index, in fl_package_get_lights' list, of the first of the six (right, top,
+   back, left, bottom, front, camera-relative, in that order). FL_ERROR_NOT_FOUND without them. */
+FIRELOOK_API fl_result fl_package_get_six_way_lights(fl_package package, int32_t* out_first_light);
+
+/* A directional light for fl_instance_set_light_direction. First published size: through reserved2. */
+typedef struct fl_light_direction_desc {
+    uint32_t struct_size;  /* sizeof(fl_light_direction_desc) */
+    uint32_t reserved;
+    double direction[3];   /* the direction the light travels, world space (as fl_package_get_lights);
+                              any finite non-zero length */
+    float irradiance[3];   /* RGB irradiance it carries, finite and >= 0, in a look's light_irradiance units
+                              (0 0 0: a dark light) */
+    int32_t reserved2;
+} fl_light_direction_desc;
+
+/* Relights an instance of a package baked with six-way lights (firelook bake --lights six-way) from any
+   direction d = desc->direction: from the next fl_world_update on, the six-way lights' irradiance in the
+   look the instance shows (constant or keyframed) is replaced by w_i(d) * desc->irradiance, with
+       w_i(d) = max(0, d . t_i)^2 / sum_j max(0, d . t_j)^2      (t_i: the direction six-way light i travels)
+   which are >= 0, sum to 1 and are continuous in d; at a baked six-way direction the image is exactly
+   that light's. The scene's own lights keep the look's irradiance. The light stays across
+   fl_instance_set_look and fl_instance_set_keyframes; fl_instance_get_look reports the irradiance it
+   gives. desc null: the look's own six-way irradiance again. A package without six-way lights:
+   FL_ERROR_NOT_FOUND; a zero, NaN or infinite direction, or a non-finite or negative irradiance:
+   FL_ERROR_INVALID_ARGUMENT; nothing changes on an error. A world call (one thread at a time per world).
+   Its error against the reference path tracer is measured in the README ("Light from any direction"). */
+FIRELOOK_API fl_result fl_instance_set_light_direction(fl_world world, fl_instance instance,
+                                                       const fl_light_direction_desc* desc);
 
 /* ---- start-up and shutdown ---------------------------------------------- */
 
@@ -612,6 +648,11 @@ FIRELOOK_INLINE fl_fit_desc fl_fit_desc_defaults(void) {
 FIRELOOK_INLINE fl_fit_report fl_fit_report_defaults(void) {
     fl_fit_report d = FIRELOOK_ZERO;
     d.struct_size = (uint32_t)sizeof(fl_fit_report);
+    return d;
+}
+FIRELOOK_INLINE fl_light_direction_desc fl_light_direction_desc_defaults(void) {
+    fl_light_direction_desc d = FIRELOOK_ZERO;
+    d.struct_size = (uint32_t)sizeof(fl_light_direction_desc);
     return d;
 }
 FIRELOOK_INLINE fl_instance_state fl_instance_state_defaults(void) {

@@ -1,0 +1,61 @@
+#include "basis/relight.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+namespace firelook::basis {
+
+glm::dvec3 checkedUnitDirection(const RunTimeLight& light) {
+    const double length = glm::length(light.direction);
+    if (!std::isfinite(length) || !(length > 0.0))
+        throw std::invalid_argument("the light direction must be finite and non-zero");
+    for (int c = 0; c < 3; ++c)
+        if (!std::isfinite(light.irradiance[c]) || light.irradiance[c] < 0.0f)
+            throw std::invalid_argument("the light's irradiance must be finite and >= 0");
+    return light.direction / length;
+}
+
+std::array<double, kSixWayLightCount> relightWeights(std::span<const glm::dvec3, kSixWayLightCount> six_way,
+                                                     const glm::dvec3& direction, double exponent) {
+    if (!(exponent > 0.0)) throw std::invalid_argument("the relighting exponent must be positive");
+    const glm::dvec3 d = checkedUnitDirection({direction, Rgb(0.0f)});
+    std::array<double, kSixWayLightCount> w{};
+    double sum = 0.0;
+    for (int i = 0; i < kSixWayLightCount; ++i) {
+        w[i] = std::pow(std::max(0.0, glm::dot(d, six_way[i])), exponent);
+        sum += w[i];
+    }
+    // Six directions of three opposite pairs: some cosine is at least 1/sqrt(3), so sum > 0.
+    for (double& x : w) x /= sum;
+    return w;
+}
+
+std::array<Rgb, kSixWayLightCount> relightIrradiance(const BakeDescription& d, const RunTimeLight& light,
+                                                     const std::string& package_name) {
+    if (d.six_way_first_light < 0)
+        throw std::invalid_argument(package_name +
+                                    ": baked without six-way lights; a light direction chosen at run time needs a "
+                                    "bake with --lights six-way");
+    const glm::dvec3 direction = checkedUnitDirection(light);
+    const std::span<const glm::dvec3, kSixWayLightCount> six_way(
+        d.light_directions.data() + d.six_way_first_light, kSixWayLightCount);
+    const std::array<double, kSixWayLightCount> w = relightWeights(six_way, direction);
+    std::array<Rgb, kSixWayLightCount> out;
+    for (int i = 0; i < kSixWayLightCount; ++i) out[i] = static_cast<float>(w[i]) * light.irradiance;
+    return out;
+}
+
+void applyRunTimeLight(const BakeDescription& d, const RunTimeLight& light, const std::string& package_name,
+                       std::span<Rgb> light_irradiance) {
+    const std::array<Rgb, kSixWayLightCount> six = relightIrradiance(d, light, package_name);
+    if (light_irradiance.size() != d.light_directions.size())
+        throw std::invalid_argument(package_name + ": " + std::to_string(light_irradiance.size()) +
+                                    " light irradiances for " + std::to_string(d.light_directions.size()) + " lights");
+    std::copy(six.begin(), six.end(), light_irradiance.begin() + d.six_way_first_light);
+}
+
+}  // namespace firelook::basis
