@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -47,7 +48,7 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         const json j = json::parse(text.str());
         checkKeys(j, {"format", "version", "frames", "size", "bins", "t_lo", "t_hi", "rbf_width", "albedo", "axes",
                       "alpha_threshold_samples", "trace", "compression", "seed", "up", "density_grid",
-                      "temperature_grid", "temperature_scale", "temperature_offset", "scene", "camera",
+                      "temperature_grid", "temperature_scale", "temperature_offset", "density_scale", "scene", "camera",
                       "memory_budget", "lights", "fire_lights"},
                   "the bake config");
         // "all" is how configToJson records every frame, so a package's recorded settings bake again.
@@ -84,13 +85,23 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         if (j.contains("temperature_grid")) c.read.temperature_grid = j["temperature_grid"].get<std::string>();
         if (j.contains("temperature_scale")) c.read.temperature_scale = j["temperature_scale"].get<double>();
         if (j.contains("temperature_offset")) c.read.temperature_offset = j["temperature_offset"].get<double>();
+        if (j.contains("density_scale")) {
+            c.read.density_scale = j["density_scale"].get<double>();
+            if (!(c.read.density_scale > 0.0 && std::isfinite(c.read.density_scale)))
+                throw std::invalid_argument("density_scale must be a positive number");
+        }
         if (j.contains("axes")) {
             const json& a = j["axes"];
             checkKeys(a, {"temperature_threshold", "smoke_extinction", "flame_extinction", "collapse_unused"}, "axes");
             if (a.contains("collapse_unused")) c.collapse_unused_axes = a["collapse_unused"].get<bool>();
-            if (a.contains("temperature_threshold")) c.axes.temperature_threshold = axisFromJson(a["temperature_threshold"]);
-            if (a.contains("smoke_extinction")) c.axes.smoke_extinction = axisFromJson(a["smoke_extinction"]);
-            if (a.contains("flame_extinction")) c.axes.flame_extinction = axisFromJson(a["flame_extinction"]);
+            const char* names[3] = {"temperature_threshold", "smoke_extinction", "flame_extinction"};
+            std::vector<double>* axes[3] = {&c.axes.temperature_threshold, &c.axes.smoke_extinction,
+                                            &c.axes.flame_extinction};
+            for (int i = 0; i < 3; ++i)
+                if (a.contains(names[i])) {
+                    *axes[i] = axisFromJson(a[names[i]]);
+                    c.axes_given[i] = true;
+                }
         }
         if (j.contains("trace")) {
             const json& t = j["trace"];
@@ -183,6 +194,7 @@ std::string configToJson(const BakeConfig& c) {
     j["temperature_grid"] = c.read.temperature_grid;
     j["temperature_scale"] = c.read.temperature_scale;
     j["temperature_offset"] = c.read.temperature_offset;
+    if (c.read.density_scale != 1.0) j["density_scale"] = c.read.density_scale;  // only when set: other bakes keep their settings hash
     j["bins"] = c.bins;
     if (c.t_lo) j["t_lo"] = *c.t_lo;
     if (c.t_hi) j["t_hi"] = *c.t_hi;

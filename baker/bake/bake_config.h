@@ -2,6 +2,7 @@
 // optional --config JSON file that overrides them (docs/bake-config.md).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -25,8 +26,11 @@ struct BakeConfig {
     std::optional<double> t_lo, t_hi;  // default: the sequence's temperature range
     double rbf_width = kDefaultRbfWidth;
     double albedo = 0.7;
-    // Sampled extinction parameters; one value collapses an axis (that parameter is fixed).
+    // Sampled extinction parameters; one value collapses an axis (that parameter is fixed). These
+    // are the design for the bundled sample's units: an axis not given (axes_given, in
+    // ParameterAxes order) is mapped to the data's own units by the bake (axis_derivation.h).
     basis::ParameterAxes axes{{1.0, 1.2, 1.4, 1.6, 1.8, 2.0}, {2.0, 4.0, 8.0, 16.0}, {0.5, 1.5, 4.0}};
+    std::array<bool, 3> axes_given{};  // set by bake.json's "axes" keys; given axes are baked as they are
     // An axis whose samples cannot change any frame's image is baked at one sample (axis_collapse.h).
     // JSON: "axes": {"collapse_unused": false}; firelook bake --keep-axes.
     bool collapse_unused_axes = true;

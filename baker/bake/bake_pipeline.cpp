@@ -104,9 +104,21 @@ FrameMemoryPlan frameMemoryPlan(const render::Medium& medium, const render::Came
     return plan;
 }
 
-basis::BakeDescription describeBake(const vdb::VdbSequence& sequence, const BakeConfig& config,
-                                    const SceneSetup& scene) {
-    basis::BakeDescription d;
+SequenceSurvey surveySequence(const vdb::VdbSequence& sequence, const std::function<bool(int frame)>& keep_going) {
+    SequenceSurvey survey;
+    for (int frame : selectFrames(sequence, "")) {
+        if (keep_going && !keep_going(frame)) throw std::runtime_error("cancelled");
+        const render::Medium medium = mediumFromFrame(sequence.load(frame));
+        survey.temperatures.merge(densityTemperatureRange(medium));
+        survey.density.merge(densityDepth(medium));
+    }
+    return survey;
+}
+
+DescribedBake describeDerivedBake(const vdb::VdbSequence& sequence, const BakeConfig& config,
+                                  const SceneSetup& scene, const SequenceSurvey* survey) {
+    DescribedBake out;
+    basis::BakeDescription& d = out.description;
     d.bins.count = config.bins;
     if (config.t_lo && config.t_hi) {
         d.bins.t_lo = *config.t_lo;
@@ -119,7 +131,10 @@ basis::BakeDescription describeBake(const vdb::VdbSequence& sequence, const Bake
     if (!(d.bins.t_hi > d.bins.t_lo)) throw std::invalid_argument("temperature range needs t_hi > t_lo");
     d.rbf_width = config.rbf_width;
     d.albedo = config.albedo;
-    d.axes = config.axes;
+    // The default look is always the data's; only the axes not given are mapped.
+    const SequenceSurvey measured = survey ? SequenceSurvey{} : surveySequence(sequence);
+    out.derivation = deriveAxes(config.axes_given, d.bins, (survey ? *survey : measured).density);
+    d.axes = derivedAxes(config.axes, out.derivation);
     basis::validateAxes(d.axes);
     const auto& tc = d.axes.temperature_threshold;
     const int n_alpha = tc.size() == 1 ? 1 : std::max(config.alpha_threshold_samples, 2);
@@ -131,7 +146,7 @@ basis::BakeDescription describeBake(const vdb::VdbSequence& sequence, const Bake
     d.width = scene.camera.width();
     d.height = scene.camera.height();
 
-    Look look = defaultLook();
+    Look look = derivedDefaultLook(out.derivation);
     look.albedo = config.albedo;
     look.temperature_threshold = clampTo(d.axes.temperature_threshold, look.temperature_threshold);
     look.smoke_extinction = clampTo(d.axes.smoke_extinction, look.smoke_extinction);
@@ -144,18 +159,12 @@ basis::BakeDescription describeBake(const vdb::VdbSequence& sequence, const Bake
     for (size_t l = std::max(scene.six_way_first_light, 0); scene.six_way_first_light >= 0 && l < look.light_irradiance.size(); ++l)
         look.light_irradiance[l] = Rgb(0.0f);
     d.default_look_json = lookToJson(look);
-    return d;
+    return out;
 }
 
-AxisAnalysis analyseSequenceAxes(const vdb::VdbSequence& sequence, const std::vector<int>& frames,
-                                 const basis::BakeDescription& description, const BakeConfig& config,
-                                 const std::function<bool(int frame)>& keep_going) {
-    DensityTemperatureRange range;
-    for (int frame : frames) {
-        if (keep_going && !keep_going(frame)) throw std::runtime_error("cancelled");
-        range.merge(densityTemperatureRange(mediumFromFrame(sequence.load(frame))));
-    }
-    return analyseAxes(description.axes, description.bins, range, collapseTolerance(config.storage));
+basis::BakeDescription describeBake(const vdb::VdbSequence& sequence, const BakeConfig& config,
+                                    const SceneSetup& scene) {
+    return describeDerivedBake(sequence, config, scene).description;
 }
 
 namespace {
@@ -221,7 +230,11 @@ nlohmann::ordered_json sharedMetadata(const std::string& sequence_path, const vd
                                       const BakeReport& report) {
     // The frames a package holds are listed per frame; the selection that chose them is not a
     // setting of the frames themselves.
-    nlohmann::ordered_json settings = nlohmann::ordered_json::parse(configToJson(config));
+    // The axes as derived (before any collapse), so that the recorded settings, saved as a
+    // bake.json, bake this package again.
+    BakeConfig recorded = config;
+    recorded.axes = derivedAxes(config.axes, report.derivation);
+    nlohmann::ordered_json settings = nlohmann::ordered_json::parse(configToJson(recorded));
     settings.erase("frames");
     const std::string settings_text = settings.dump();
     nlohmann::ordered_json extra;
@@ -237,6 +250,9 @@ nlohmann::ordered_json sharedMetadata(const std::string& sequence_path, const vd
                            {"sources", nlohmann::ordered_json::array()},
                            {"settings", settings},
                            {"settings_xxh3_64", textHash(settings_text)}};
+    // Only when set, so that packages read without it keep their bytes.
+    if (sequence.options().density_scale != 1.0)
+        extra["provenance"]["density_scale"] = sequence.options().density_scale;
     const render::CameraParameters& cam = scene.camera.parameters();
     extra["camera"] = {{"source", scene.camera_source},
                        {"world_from_camera", cam.world_from_camera},
@@ -245,6 +261,9 @@ nlohmann::ordered_json sharedMetadata(const std::string& sequence_path, const vd
                        {"height", cam.height}};
     extra["errors"] = nlohmann::ordered_json::array();
     if (report.axes_analysed) extra["axis_collapse"] = nlohmann::ordered_json::parse(axisAnalysisToJson(report.axes));
+    // Only where it changed something: the bundled sample's packages keep their bytes.
+    if (!report.derivation.identity())
+        extra["axis_derivation"] = nlohmann::ordered_json::parse(axisDerivationToJson(report.derivation));
     basis::BakeDescription without_frames = description;
     without_frames.frames.clear();
     return nlohmann::ordered_json::parse(basis::makeMetadata(without_frames, extra.dump()));
@@ -260,17 +279,26 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
     const vdb::VdbSequence sequence = vdb::VdbSequence::open(sequence_path, config.read);
     const std::vector<int> frames = selectFrames(sequence, config.frames);
     const SceneSetup scene = resolveScene(sequence, config.scene);
-    basis::BakeDescription description = describeBake(sequence, config, scene);
     BakeReport report;
     // Before any tracing, since every frame of a package shares the axes: one extra load of each
     // frame of the whole sequence (not only the frames selected, so that shards agree), small
-    // beside a frame's trace.
-    const auto& ax = description.axes;
-    if (config.collapse_unused_axes &&
-        (ax.temperature_threshold.size() > 1 || ax.smoke_extinction.size() > 1 || ax.flame_extinction.size() > 1)) {
-        report.axes = analyseSequenceAxes(sequence, selectFrames(sequence, ""), description, config, [&](int frame) {
-            return !progress || progress(0.0, "frame " + std::to_string(frame) + ": checking the look axes");
-        });
+    // beside a frame's trace, measures what deriving the axes and the default look, and
+    // collapsing the axes, need.
+    const auto& ax = config.axes;
+    const bool collapse = config.collapse_unused_axes && (ax.temperature_threshold.size() > 1 ||
+                                                          ax.smoke_extinction.size() > 1 || ax.flame_extinction.size() > 1);
+    const SequenceSurvey survey = surveySequence(sequence, [&](int frame) {
+        return !progress || progress(0.0, "frame " + std::to_string(frame) + ": checking the look axes");
+    });
+    DescribedBake described = describeDerivedBake(sequence, config, scene, &survey);
+    basis::BakeDescription& description = described.description;
+    report.derivation = described.derivation;
+    const auto& given = config.axes_given;
+    if (notice && !(given[0] && given[1] && given[2])) notice(describeAxisDerivation(report.derivation, description.axes));
+    // The collapse looks at the derived axes: it runs after the derivation.
+    if (collapse) {
+        report.axes = analyseAxes(description.axes, description.bins, survey.temperatures,
+                                  collapseTolerance(config.storage));
         report.axes_analysed = true;
         applyAxisCollapse(description, report.axes);
         if (notice)

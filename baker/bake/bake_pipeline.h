@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bake/axis_collapse.h"
+#include "bake/axis_derivation.h"
 #include "bake/bake_config.h"
 #include "basis/bake_description.h"
 
@@ -60,6 +61,9 @@ struct BakeReport {
     // axes_analysed is false when no axis had two samples or collapse_unused_axes was off.
     bool axes_analysed = false;
     AxisAnalysis axes;
+    // The axes not given explicitly and the default look, mapped to the data's units
+    // (axis_derivation.h); what it derived and from what.
+    AxisDerivation derivation;
 };
 
 // What a --target-size or --target-error chose for a frame, as META's errors[].storage_target and
@@ -84,8 +88,26 @@ FrameMemoryPlan frameMemoryPlan(const render::Medium& medium, const render::Came
                                 const TraceSettings& trace, const CompressionSettings& compression,
                                 uint64_t budget_bytes);
 
-// The description (bins, axes, lights, size) a bake of this sequence with this
-// configuration produces; also used by `reference` and `bench` to match it.
+// What one pass over every frame of the whole sequence (never only the selected frames, so that
+// shards agree) measures for the axes: the temperatures where there is density (the axis collapse)
+// and the density statistic the extinction axes are derived from.
+struct SequenceSurvey {
+    DensityTemperatureRange temperatures;
+    DensityDepth density;
+};
+SequenceSurvey surveySequence(const vdb::VdbSequence& sequence,
+                              const std::function<bool(int frame)>& keep_going = {});
+
+// The description (bins, axes, lights, size) a bake of this sequence with this configuration
+// produces, with the axes not given explicitly derived from the data (axis_derivation.h) and the
+// default look in the data's units; also used by `reference` to match it. `survey`: the
+// sequence's, or null to have it measured here (one load of every frame).
+struct DescribedBake {
+    basis::BakeDescription description;
+    AxisDerivation derivation;
+};
+DescribedBake describeDerivedBake(const vdb::VdbSequence& sequence, const BakeConfig& config,
+                                  const SceneSetup& scene, const SequenceSurvey* survey = nullptr);
 basis::BakeDescription describeBake(const vdb::VdbSequence& sequence, const BakeConfig& config,
                                     const SceneSetup& scene);
 
@@ -102,17 +124,12 @@ struct BakeRunOptions {
 // and the frame itself, never on which other frames the bake selects: shards of a sequence baked
 // separately merge into the package one bake writes.
 // progress(fraction, detail) returns false to cancel: the bake then throws, leaves no package
-// behind and keeps the finished frames for --resume. notice gets one line per axis collapsed,
-// before any tracing, and one per kept frame that cannot be resumed.
+// behind and keeps the finished frames for --resume. notice gets one line saying the axes derived
+// from the data (when an axis was not given), one per axis collapsed, before any tracing, and one per kept frame that cannot be resumed.
 BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::path& output,
                        const BakeConfig& config, const std::string& tool_version,
                        const std::function<bool(double, const std::string&)>& progress = {},
                        const std::function<void(const std::string&)>& notice = {},
                        const BakeRunOptions& run = {});
-
-// The axis analysis of the frames `frames` (loads each once), as bakePackage does it.
-AxisAnalysis analyseSequenceAxes(const vdb::VdbSequence& sequence, const std::vector<int>& frames,
-                                 const basis::BakeDescription& description, const BakeConfig& config,
-                                 const std::function<bool(int frame)>& keep_going = {});
 
 }  // namespace firelook::bake

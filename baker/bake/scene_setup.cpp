@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -10,6 +11,7 @@
 #include "basis/six_way_lights.h"
 #include "gltf/gltf_scene.h"
 #include "vdb/dense_volume.h"
+#include "vdb/frame_grids.h"
 
 namespace firelook::bake {
 
@@ -65,15 +67,22 @@ render::Medium mediumFromFrame(const vdb::VolumeFrame& frame) {
 }
 
 std::pair<double, double> sequenceTemperatureRange(const vdb::VdbSequence& sequence) {
-    double lo = 0.0, hi = 0.0;
+    // From the ambient temperature (the grid's background, after the read's temperature mapping:
+    // 0 for Blender's 0-based heat, 300 for the same in Kelvin), so ambient air sits in bin 0 and
+    // a mapped temperature gives the mapped range.
+    std::optional<double> lo, hi;
     for (const vdb::FrameFile& file : sequence.frames()) {
         const vdb::VolumeFrame frame = sequence.load(file.number);
+        const double ambient = frame.grids->temperature->background();
+        lo = std::min(lo.value_or(ambient), ambient);
+        hi = std::max(hi.value_or(ambient), ambient);
         if (frame.temperature_stats.active_voxels == 0) continue;
-        lo = std::min(lo, frame.temperature_stats.min);
-        hi = std::max(hi, frame.temperature_stats.max);
+        lo = std::min(*lo, frame.temperature_stats.min);
+        hi = std::max(*hi, frame.temperature_stats.max);
     }
-    if (!(hi > lo)) hi = lo + 1.0;  // a constant field still needs a non-empty range
-    return {lo, hi};
+    if (!lo) lo = hi = 0.0;
+    if (!(*hi > *lo)) hi = *lo + 1.0;  // a constant field still needs a non-empty range
+    return {*lo, *hi};
 }
 
 std::vector<std::pair<int, int>> parseFrameRanges(const std::string& selection) {

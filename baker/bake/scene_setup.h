@@ -43,7 +43,8 @@ SceneSetup resolveScene(const vdb::VdbSequence& sequence, const SceneOptions& op
 render::Medium mediumFromFrame(const vdb::VolumeFrame& frame);
 
 // [min, max] of the temperature over every frame of the sequence (loads each frame once).
-// The range includes 0 when the grids' background is 0, so ambient air sits in bin 0.
+// The range includes the temperature grids' background (ambient air: 0 for Blender's heat, 300 in
+// Kelvin), so ambient air sits in bin 0.
 std::pair<double, double> sequenceTemperatureRange(const vdb::VdbSequence& sequence);
 
 // Parses "A-B,C,..." into its ranges ([first, last], a single frame as [C, C]); empty gives none.

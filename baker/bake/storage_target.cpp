@@ -85,14 +85,21 @@ FramePrecision finish(Candidate&& c, int candidates, double quality_scale, bool 
     return out;
 }
 
-FramePrecision forError(const FrameBasis& basis, int frame, const FrameSpectrum& spectrum,
-                        const CompressionSettings& compression, const basis::FrameCodecSettings& storage,
-                        double target, CandidateEncoder& encoder) {
+// Where a frame's factors come from: the spectrum that sizes the truncation, and the factors cut to
+// a rank (the traced basis decomposed at that rank, or a stored frame's leading columns).
+struct FrameSource {
+    const FrameSpectrum& spectrum;
+    std::function<CompressedFrame(int rank)> factors;
+};
+
+FramePrecision forError(const FrameSource& source, const CompressionSettings& compression,
+                        const basis::FrameCodecSettings& storage, double target, CandidateEncoder& encoder) {
+    const FrameSpectrum& spectrum = source.spectrum;
     // U once, at the largest rank any split needs (the smallest truncation share).
     CompressionSettings finest = compression;
     finest.target_relative_error = target * std::sqrt(1.0 - kStorageShares[std::size(kStorageShares) - 1] *
                                                                  kStorageShares[std::size(kStorageShares) - 1]);
-    const CompressedFrame full = compressFrameBasis(basis, frame, spectrum, truncationRank(spectrum, finest));
+    const CompressedFrame full = source.factors(truncationRank(spectrum, finest));
     // The fewest bytes among the splits that meet the target; if none does (the rank cap), the
     // smallest predicted error.
     std::optional<Candidate> best;
@@ -122,13 +129,13 @@ FramePrecision forError(const FrameBasis& basis, int frame, const FrameSpectrum&
     return finish(std::move(*best), encoder.count, 1.0, met);
 }
 
-FramePrecision forSize(const FrameBasis& basis, int frame, const FrameSpectrum& spectrum,
-                       const CompressionSettings& compression, const basis::FrameCodecSettings& storage,
-                       uint64_t share, CandidateEncoder& encoder) {
+FramePrecision forSize(const FrameSource& source, const CompressionSettings& compression,
+                       const basis::FrameCodecSettings& storage, uint64_t share, CandidateEncoder& encoder) {
+    const FrameSpectrum& spectrum = source.spectrum;
     const auto scale = [](int k) { return std::exp2(double(k) / kStepsPerOctave); };
     CompressionSettings finest = compression;
     finest.target_relative_error *= scale(kLowest);
-    const CompressedFrame full = compressFrameBasis(basis, frame, spectrum, truncationRank(spectrum, finest));
+    const CompressedFrame full = source.factors(truncationRank(spectrum, finest));
     const auto at = [&](int k) {
         const double q = scale(k);
         CompressionSettings c = compression;
@@ -187,12 +194,51 @@ FramePrecision chooseFramePrecision(const FrameBasis& basis, int frame, const ba
                                     const std::function<bool()>& keep_going) {
     const FrameSpectrum spectrum = frameSpectrum(basis);
     CandidateEncoder encoder(description, keep_going, target.active());
-    if (target.basis_error > 0.0)
-        return forError(basis, frame, spectrum, compression, storage, target.basis_error, encoder);
-    if (target.package_bytes > 0)
-        return forSize(basis, frame, spectrum, compression, storage, frame_share_bytes, encoder);
+    const FrameSource source{spectrum, [&](int rank) { return compressFrameBasis(basis, frame, spectrum, rank); }};
+    if (target.basis_error > 0.0) return forError(source, compression, storage, target.basis_error, encoder);
+    if (target.package_bytes > 0) return forSize(source, compression, storage, frame_share_bytes, encoder);
     const CompressedFrame full = compressFrameBasis(basis, frame, spectrum, truncationRank(spectrum, compression));
     return finish(encoder.encode(full, full.factors.rank, compression, storage), encoder.count, 1.0, true);
+}
+
+StoredFrameErrors storedFrameErrors(const basis::FrameFactors& factors, double truncation_error,
+                                    double storage_error) {
+    StoredFrameErrors out;
+    out.frame.factors = factors;
+    // Row m of S V^T has the norm s_m (U's columns are orthonormal up to their storage error).
+    std::vector<double> energy(static_cast<size_t>(factors.rank), 0.0);
+    for (size_t j = 0; j < static_cast<size_t>(factors.columns); ++j)
+        for (size_t m = 0; m < energy.size(); ++m) {
+            const double v = factors.svt[j * factors.rank + m];
+            energy[m] += v * v;
+        }
+    double kept = 0.0;
+    for (double e : energy) kept += e;
+    const double t2 = std::min(truncation_error * truncation_error, 0.999999);
+    const double total = kept / (1.0 - t2);
+    // The energy the bake dropped, as one value after the kept ones: every rank keeps it dropped.
+    for (double e : energy) out.frame.singular_values.push_back(std::sqrt(e));
+    out.frame.singular_values.push_back(std::sqrt(total * t2));
+    // The storage error already in the frame, shared among the columns by their energy: cutting
+    // columns takes their share with them; the rest stays (repack cannot restore precision).
+    for (double e : energy) out.frame.column_quantisation.push_back(total > 0.0 ? storage_error * storage_error * e / kept : 0.0);
+    out.spectrum.columns = factors.rank;
+    out.spectrum.total = total;
+    for (size_t m = energy.size(); m-- > 0;) out.spectrum.eigenvalues.push_back(energy[m]);
+    return out;
+}
+
+FramePrecision chooseStoredFramePrecision(const StoredFrameErrors& stored, const basis::BakeDescription& description,
+                                          const CompressionSettings& compression,
+                                          const basis::FrameCodecSettings& storage, const StorageTarget& target,
+                                          uint64_t frame_share_bytes, const std::function<bool()>& keep_going) {
+    CandidateEncoder encoder(description, keep_going, target.active());
+    const CompressedFrame& all = stored.frame;
+    const FrameSource source{stored.spectrum,
+                             [&](int rank) { return leadingColumns(all, std::min(rank, all.factors.rank)); }};
+    if (target.basis_error > 0.0) return forError(source, compression, storage, target.basis_error, encoder);
+    if (target.package_bytes > 0) return forSize(source, compression, storage, frame_share_bytes, encoder);
+    return finish(encoder.encode(all, all.factors.rank, compression, storage), encoder.count, 1.0, true);
 }
 
 }  // namespace firelook::bake

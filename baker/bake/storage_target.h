@@ -62,4 +62,22 @@ FramePrecision chooseFramePrecision(const FrameBasis& basis, int frame, const ba
                                     const StorageTarget& target, uint64_t frame_share_bytes,
                                     const std::function<bool()>& keep_going = {});
 
+// A frame already stored in a package (firelook repack), as the chooser sees it: the stored
+// factors stand for the basis, their S V^T row norms for its singular values, and the errors the
+// package records for it (its SVD truncation and storage errors, relative to the traced basis)
+// stay in every prediction. Rank can only fall from the stored rank and the grids only coarsen:
+// what the package no longer holds cannot be restored.
+struct StoredFrameErrors {
+    CompressedFrame frame;
+    FrameSpectrum spectrum;  // no eigenvectors: the stored singular values squared and the total
+};
+StoredFrameErrors storedFrameErrors(const basis::FrameFactors& factors, double truncation_error,
+                                    double storage_error);
+
+// chooseFramePrecision for a stored frame.
+FramePrecision chooseStoredFramePrecision(const StoredFrameErrors& stored, const basis::BakeDescription& description,
+                                          const CompressionSettings& compression,
+                                          const basis::FrameCodecSettings& storage, const StorageTarget& target,
+                                          uint64_t frame_share_bytes, const std::function<bool()>& keep_going = {});
+
 }  // namespace firelook::bake

@@ -61,6 +61,7 @@ void writeReportJson(const std::string& path, const bake::BakeReport& report) {
     // null when the axes were kept as given without looking (--keep-axes, or no axis to collapse).
     doc["axis_collapse"] = report.axes_analysed ? nlohmann::ordered_json::parse(bake::axisAnalysisToJson(report.axes))
                                                 : nlohmann::ordered_json(nullptr);
+    doc["axis_derivation"] = nlohmann::ordered_json::parse(bake::axisDerivationToJson(report.derivation));
     writeFileAtomically(path, doc.dump(2) + "\n");
 }
 

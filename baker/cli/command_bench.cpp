@@ -260,6 +260,7 @@ void registerBenchCommand(CLI::App& app) {
         read.temperature_grid = prov.at("temperature_grid");
         read.temperature_scale = prov.at("temperature_scale");
         read.temperature_offset = prov.at("temperature_offset");
+        read.density_scale = prov.value("density_scale", 1.0);  // recorded only when not 1
         applySequenceFlags(args->sequence_flags, read);
         // A package baked with --clamp-extreme saw clamped data: its references must too.
         if (prov.value("clamp_extreme", false)) read.clamp_extreme = true;

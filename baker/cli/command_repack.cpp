@@ -1,11 +1,16 @@
 // firelook repack IN.firelook -o OUT.firelook [--alpha-error E] [--footprint-error E] [--basis-error E]
+//                 [--target-size SIZE | --target-error E]
 // Stores a package's frames again with the frame codec at the given precision, without baking:
 // packages of layout 1 become layout 2, and a package can trade size for error after the fact.
-// The errors add up: repacking a layout-2 package adds the new quantisation to the old one.
+// The errors add up: repacking a layout-2 package adds the new quantisation to the old one. The
+// targets choose rank and precision per frame as `bake` does (bake/storage_target.h), from the
+// stored factors: rank can only fall and precision only coarsen.
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "bake/bake_config.h"
+#include "bake/storage_target.h"
 #include "basis/basis_package.h"
 #include "cli/commands.h"
 #include "cli/interrupt.h"
@@ -13,10 +18,41 @@
 #include "cli/progress_bar.h"
 
 namespace firelook::cli {
+namespace {
+
+nlohmann::ordered_json storedEntry(int frame, const basis::StoredFrame& stored) {
+    return {{"frame", frame},
+            {"storage_relative_error", std::hypot(stored.u_error, stored.svt_error)},
+            {"pixels_with_footprint_rays", stored.detailed_pixels},
+            {"alpha_storage_error_bound", stored.alpha_bound},
+            {"bytes", {{"u", stored.u_bytes}, {"svt", stored.svt_bytes}, {"depths", stored.depth_bytes}}}};
+}
+
+// The errors the package records for a frame, relative to the traced basis: the bake's truncation
+// and storage errors (META "errors"), and an earlier repack's storage error on top (they add in
+// squares). A package that records none (written by other tools) counts as exact.
+bake::StoredFrameErrors storedFrameErrors(const nlohmann::ordered_json& meta, int frame, const basis::FrameFactors& factors) {
+    double truncation = 0.0, storage = 0.0;
+    for (const auto& e : meta.value("errors", nlohmann::ordered_json::array()))
+        if (e.value("frame", -1) == frame) {
+            truncation = e.value("svd_truncation_relative_error", 0.0);
+            storage = e.value("storage_relative_error", 0.0);
+        }
+    if (meta.contains("repacked"))
+        for (const auto& e : meta["repacked"].value("frames", nlohmann::ordered_json::array()))
+            if (e.value("frame", -1) == frame) {
+                storage = std::hypot(storage, e.value("storage_relative_error", 0.0));
+                truncation = std::max(truncation, e.value("svd_truncation_relative_error", 0.0));
+            }
+    return bake::storedFrameErrors(factors, truncation, storage);
+}
+
+}  // namespace
 
 void registerRepackCommand(CLI::App& app) {
     struct Args {
-        std::string input, output;
+        std::string input, output, target_size;
+        double target_error = 0.0;
         basis::FrameCodecSettings storage;
     };
     auto args = std::make_shared<Args>();
@@ -32,11 +68,33 @@ void registerRepackCommand(CLI::App& app) {
     cmd->add_option("--basis-error", args->storage.basis_error,
                     "Frobenius error that storing U and S V^T may add to the basis, relative to its norm")
         ->capture_default_str();
-    cmd->callback([args] {
+    cmd->add_option("--target-size", args->target_size,
+                    "aim the package at this size, e.g. 6M (binary units), as `bake --target-size` does: each frame "
+                    "an equal share, at the finest precision that fits, by cutting rank and coarsening the storage of "
+                    "the stored frame; it cannot restore precision the package does not hold");
+    cmd->add_option("--target-error", args->target_error,
+                    "store each frame's basis within this relative error (the package's recorded truncation and "
+                    "storage errors included), in the fewest bytes, as `bake --target-error` does; only errors above "
+                    "what the package already holds can be met (rank only falls, precision only coarsens)")
+        ->excludes("--target-size");
+    cmd->callback([cmd, args] {
+        bake::StorageTarget target;
+        if (!args->target_size.empty()) target = {.package_bytes = bake::parseByteSize(args->target_size)};
+        if (cmd->count("--target-error")) target = {.basis_error = args->target_error};
+        bake::checkStorageTarget(target);
         const basis::BasisPackage in = basis::BasisPackage::open(args->input);
-        const basis::BakeDescription& d = in.description();
+        basis::BakeDescription d = in.description();
         nlohmann::ordered_json extra = nlohmann::ordered_json::parse(in.metadataJson());
         for (const char* key : {"format", "version", "bake"}) extra.erase(key);
+        // The truncation the package was baked with, which a size target scales like the bake does.
+        bake::CompressionSettings compression;
+        if (extra.contains("provenance") && extra["provenance"].contains("settings")) {
+            const auto& c = extra["provenance"]["settings"].value("compression", nlohmann::ordered_json::object());
+            compression.target_relative_error = c.value("target_relative_error", compression.target_relative_error);
+            compression.max_rank = c.value("max_rank", compression.max_rank);
+        }
+        const uint64_t share =
+            target.package_bytes > 0 ? bake::frameShareBytes(target, d.frames.size(), in.metadataJson().size()) : 0;
         package::PackageWriter writer(args->output);
         ProgressBar bar("repack");
         uint64_t before = 0, after = 0;
@@ -44,16 +102,38 @@ void registerRepackCommand(CLI::App& app) {
         nlohmann::ordered_json frames = nlohmann::ordered_json::array();
         for (size_t i = 0; i < d.frames.size(); ++i) {
             const int frame = d.frames[i].frame;
-            const basis::StoredFrame stored = writeFrameFactors(writer, d, in.loadFrame(frame), args->storage);
-            after += stored.bytes();
+            nlohmann::ordered_json entry;
+            if (target.active()) {
+                const bake::StoredFrameErrors errors = storedFrameErrors(extra, frame, in.loadFrame(frame));
+                const bake::FramePrecision chosen = bake::chooseStoredFramePrecision(
+                    errors, d, compression, args->storage, target, share,
+                    [] { return !interruptRequested(); });
+                const basis::StoredFrame stored = basis::writeEncodedFrame(writer, frame, chosen.encoded);
+                d.frames[i].rank = chosen.compressed.factors.rank;
+                after += stored.bytes();
+                entry = storedEntry(frame, stored);
+                entry["rank"] = chosen.compressed.factors.rank;
+                entry["svd_truncation_relative_error"] = chosen.compressed.truncation_error;
+                entry["predicted_error"] = chosen.predicted_error;
+                entry["met"] = chosen.target_met;
+                entry["quality_scale"] = chosen.quality_scale;
+                entry["basis_error"] = chosen.storage.basis_error;
+                entry["alpha_error"] = chosen.storage.alpha_error;
+                entry["footprint_error"] = chosen.storage.footprint_error;
+                if (!chosen.target_met)
+                    std::fprintf(stderr, "frame %d: %s (predicted error %.3g)\n", frame,
+                                 target.package_bytes > 0 ? "does not fit its share of --target-size"
+                                                          : "--target-error is below what the package holds",
+                                 chosen.predicted_error);
+            } else {
+                const basis::StoredFrame stored = writeFrameFactors(writer, d, in.loadFrame(frame), args->storage);
+                after += stored.bytes();
+                entry = storedEntry(frame, stored);
+            }
             // The fire lights do not depend on the storage precision: copied as stored.
             if (const package::SectionInfo* s = in.reader().find(basis::kSectionFireLights, static_cast<uint32_t>(frame)))
                 after += writer.addStoredSection(*s, in.reader().stored(*s)).stored_size;
-            frames.push_back({{"frame", frame},
-                              {"storage_relative_error", std::hypot(stored.u_error, stored.svt_error)},
-                              {"pixels_with_footprint_rays", stored.detailed_pixels},
-                              {"alpha_storage_error_bound", stored.alpha_bound},
-                              {"bytes", {{"u", stored.u_bytes}, {"svt", stored.svt_bytes}, {"depths", stored.depth_bytes}}}});
+            frames.push_back(entry);
             bar.update(double(i + 1) / d.frames.size(), "frame " + std::to_string(frame));
             throwIfInterrupted();  // the writer deletes its temporary file
         }
@@ -62,6 +142,8 @@ void registerRepackCommand(CLI::App& app) {
                              {"footprint_error", args->storage.footprint_error},
                              {"basis_error", args->storage.basis_error},
                              {"frames", frames}};
+        if (target.package_bytes > 0) extra["repacked"]["target_size"] = target.package_bytes;
+        if (target.basis_error > 0.0) extra["repacked"]["target_error"] = target.basis_error;
         writer.addMetadata(basis::makeMetadata(d, extra.dump()));
         writer.commit();
         bar.finish(std::to_string(d.frames.size()) + " frames");

@@ -70,7 +70,7 @@ VolumeFrame loadFrame(const FrameFile& frame, const ReadOptions& resolved) {
 
         const ConditioningReport density_report = conditionGrid(
             *density,
-            {.clamp_negative = true, .limit = kMaxPlausibleDensity, .clamp_extreme = resolved.clamp_extreme});
+            {.clamp_negative = true, .scale = resolved.density_scale, .limit = kMaxPlausibleDensity, .clamp_extreme = resolved.clamp_extreme});
         const ConditioningReport temperature_report =
             conditionGrid(*temperature, {.scale = resolved.temperature_scale,
                                          .offset = resolved.temperature_offset,

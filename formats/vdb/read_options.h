@@ -33,6 +33,8 @@ struct ReadOptions {
     // The temperature used everywhere downstream is T = temperature_scale * raw + temperature_offset.
     double temperature_scale = 1.0;
     double temperature_offset = 0.0;
+    // The density used everywhere downstream is density_scale * raw (another solver's density units).
+    double density_scale = 1.0;
     NonFinitePolicy non_finite = NonFinitePolicy::Clean;
     // Values beyond kMaxPlausibleDensity / kMaxPlausibleTemperature: false refuses the frame (VdbError
     // naming the file, the grid and the value); true clamps them to the bound, counts them in

@@ -125,6 +125,7 @@ void ReferenceWorker::run(ReferenceRequest request) {
         read.temperature_grid = provenance.value("temperature_grid", std::string());
         read.temperature_scale = provenance.value("temperature_scale", 1.0);
         read.temperature_offset = provenance.value("temperature_offset", 0.0);
+        read.density_scale = provenance.value("density_scale", 1.0);  // recorded only when not 1
 
         s.status = "loading frame " + std::to_string(request.frame) + " of " + s.sequence_path;
         publish(s);

@@ -33,13 +33,16 @@ gnuplot <<GP
 set terminal pngcairo size 1200,500 font ",10"
 set output "$out/error-vs-size.png"
 set datafile separator ","
-set multiplot layout 1,2 title "FireLook package size against error (frame codec settings, one knob per point)"
+set multiplot layout 1,2 title "FireLook package size against error (frame codec settings one knob per point; repack --target-error / --target-size)"
+target(x) = (strcol(1)[1:7] eq "target-") ? x : NaN
+knob(x) = (strcol(1)[1:7] eq "target-") ? NaN : x
 set grid
 set logscale x
 set xlabel "package size, MB"
 set key top right
 set ylabel "relative RMSE vs reference, its noise removed (%)"
-plot "$csv" every ::1 using (\$$b / 1e6):(100 * \$$e) with points pt 7 lc rgb "#c0392b" title "median look", \
+plot "$csv" every ::1 using (knob(\$$b / 1e6)):(100 * \$$e) with points pt 7 lc rgb "#c0392b" title "median look (codec settings)", \
+     "$csv" every ::1 using (target(\$$b / 1e6)):(100 * \$$e) with points pt 5 lc rgb "#27ae60" title "median look (repack targets)", \
      "$out/pareto-size.dat" using 2:(100 * \$3) with lines lw 2 lc rgb "#2c3e50" title "Pareto front (median)", \
      "$out/pareto-size.dat" using 2:(100 * \$3):1 with labels offset char 0.6,0.6 left font ",8" notitle
 set ylabel "max alpha error against exact rays"

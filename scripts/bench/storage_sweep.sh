@@ -8,7 +8,8 @@
 # OUT/pareto.txt (the settings no other beats on size and median error).
 #   scripts/bench/storage_sweep.sh [SEQUENCE] [OUT]
 # Environment: FRAMES (3,7,11), SIZE (256x256), LOOKS (4 per frame), SPP (256), ALPHA_RAYS (4),
-# UP (z), FIRELOOK (build/release's by default, built first when unset).
+# UP (z), TARGET_SIZES ("1M 768K 512K": repack --target-size values; scale them with SIZE),
+# FIRELOOK (build/release's by default, built first when unset).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 sequence="${1:-$root/samples/data/explosion}"
@@ -32,23 +33,27 @@ if [[ ! -f "$fine" ]]; then
 fi
 read -r -a bench_frames <<< "${frames//,/ }"
 
-# label alpha_error footprint_error basis_error: one knob from the defaults at a time, and both ends
+# label and the repack options: one knob from the defaults at a time, both ends, then repack's
+# targets (a per-frame error, and sizes of the whole package of FRAMES).
 settings=(
-  "finest - - -"
-  "defaults 0.001 0.001 0.0005"
-  "alpha-0.0005 0.0005 0.001 0.0005" "alpha-0.002 0.002 0.001 0.0005" "alpha-0.004 0.004 0.001 0.0005"
-  "footprint-0 0.001 0 0.0005" "footprint-0.003 0.001 0.003 0.0005" "footprint-0.01 0.001 0.01 0.0005"
-  "basis-0.0002 0.001 0.001 0.0002" "basis-0.001 0.001 0.001 0.001" "basis-0.002 0.001 0.001 0.002"
-  "basis-0.005 0.001 0.001 0.005"
-  "coarse 0.004 0.01 0.005"
+  "finest"
+  "defaults --alpha-error 0.001 --footprint-error 0.001 --basis-error 0.0005"
+  "alpha-0.0005 --alpha-error 0.0005" "alpha-0.002 --alpha-error 0.002" "alpha-0.004 --alpha-error 0.004"
+  "footprint-0 --footprint-error 0" "footprint-0.003 --footprint-error 0.003" "footprint-0.01 --footprint-error 0.01"
+  "basis-0.0002 --basis-error 0.0002" "basis-0.001 --basis-error 0.001" "basis-0.002 --basis-error 0.002"
+  "basis-0.005 --basis-error 0.005"
+  "coarse --alpha-error 0.004 --footprint-error 0.01 --basis-error 0.005"
+  "target-error-0.002 --target-error 0.002" "target-error-0.004 --target-error 0.004"
+  "target-error-0.008 --target-error 0.008" "target-error-0.016 --target-error 0.016"
 )
+for size_target in ${TARGET_SIZES:-1M 768K 512K}; do settings+=("target-size-$size_target --target-size $size_target"); done
 for s in "${settings[@]}"; do
-  read -r label alpha footprint basis <<< "$s"
+  read -r label options <<< "$s"
   package="$fine"
   if [[ "$label" != finest ]]; then
     package="$out/packages/$label.firelook"
-    "$firelook" repack "$fine" -o "$package" --alpha-error "$alpha" --footprint-error "$footprint" \
-      --basis-error "$basis" > /dev/null
+    # shellcheck disable=SC2086  # the options are words
+    "$firelook" repack "$fine" -o "$package" $options > /dev/null
   fi
   echo "== $label"
   "$firelook" bench "$sequence" --package "$package" --frames "${bench_frames[@]}" --looks "$looks" --spp "$spp" \

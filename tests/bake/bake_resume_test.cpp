@@ -89,7 +89,9 @@ TEST(BakeResume, AFrameWhoseFileChangedOrWhosePartIsDamagedIsBakedAgain) {
     c.scene.camera = std::array<double, 7>{1.0, -3.0, 1.0, 1.0, 1.0, 0.9, 40.0};
     const auto out = dir / "out.firelook";
     bakeTwoOfThree(sequence, out, c);
-    std::filesystem::copy_file(std::filesystem::path(FIRELOOK_SAMPLE_DIR) / "fluid_data_0004.vdb",
+    // Frame 2 becomes frame 1's file: another file, but the sequence's densest frame (3) still sets
+    // the default look's derived extinction (bake/axis_derivation.h), so only frame 2 is refused.
+    std::filesystem::copy_file(std::filesystem::path(FIRELOOK_SAMPLE_DIR) / "fluid_data_0001.vdb",
                                dir / "seq" / "fluid_data_0002.vdb", std::filesystem::copy_options::overwrite_existing);
     {  // A part damaged on disk: one byte of its first section flipped.
         std::fstream part(BakeCheckpoint::folderFor(out) / "frame_1.firelook", std::ios::in | std::ios::out | std::ios::binary);

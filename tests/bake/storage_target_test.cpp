@@ -11,6 +11,9 @@
 #include "../support/temp_dir.h"
 #include "bake/bake_config.h"
 #include "bake/bake_pipeline.h"
+#include "basis/basis_package.h"
+#include "basis/frame_factors.h"
+#include "package/package_writer.h"
 #include "tiny_sample_bake.h"
 
 namespace firelook::bake {
@@ -104,6 +107,73 @@ TEST(StorageTarget, BakeConfigFileTakesTheTargetsAndTheMemoryBudget) {
     }
     BakeConfig both;
     EXPECT_THROW(applyConfigFile(both, file), std::runtime_error);
+}
+
+// U S V^T of a frame (pixels x columns, pixel-major).
+std::vector<double> basisOf(const basis::FrameFactors& f) {
+    const std::vector<float> u = basis::decodeU(f);
+    std::vector<double> b(static_cast<size_t>(f.pixels) * f.columns, 0.0);
+    for (int p = 0; p < f.pixels; ++p)
+        for (int j = 0; j < f.columns; ++j)
+            for (int m = 0; m < f.rank; ++m)
+                b[size_t(p) * f.columns + j] += double(u[size_t(p) * f.rank + m]) * f.svt[size_t(j) * f.rank + m];
+    return b;
+}
+
+// firelook repack's targets (chooseStoredFramePrecision): a frame stored at the defaults, stored
+// again within a looser error or a smaller share. Checked on the frame read back from the package
+// written: its basis within the target of the stored one, fewer bytes, no higher rank. A target
+// below the errors the package already records cannot be met, and says so.
+TEST(StorageTarget, StoredFrameMeetsALooserTargetAndNeverATighterOne) {
+    TempDir dir;
+    const BakeReport base = bakePackage(FIRELOOK_SAMPLE_DIR, dir / "p.firelook", twoFrames(), "test");
+    const basis::BasisPackage package = basis::BasisPackage::open(dir / "p.firelook");
+    const FrameBakeReport& fr = base.frames.at(0);
+    const basis::FrameFactors original = package.loadFrame(fr.frame);
+    const StoredFrameErrors stored = storedFrameErrors(original, fr.truncation_error, fr.quantisation_error);
+    const uint64_t original_bytes = fr.u_bytes + fr.svt_bytes + fr.depth_bytes;
+    const std::vector<double> b0 = basisOf(original);
+    double norm = 0.0;
+    for (double v : b0) norm += v * v;
+
+    const double target = 0.03;
+    const std::vector<std::pair<StorageTarget, uint64_t>> targets = {{{.basis_error = target}, 0},
+                                                                      {{.package_bytes = 1}, original_bytes / 2}};
+    for (const auto& [t, share] : targets) {
+        const FramePrecision chosen =
+            chooseStoredFramePrecision(stored, package.description(), CompressionSettings{}, {}, t, share);
+        EXPECT_TRUE(chosen.target_met);
+        EXPECT_LE(chosen.compressed.factors.rank, original.rank);
+        const auto file = dir / "r.firelook";
+        {
+            package::PackageWriter writer(file);
+            const basis::StoredFrame written = basis::writeEncodedFrame(writer, fr.frame, chosen.encoded);
+            basis::BakeDescription d = package.description();
+            d.frames = {{fr.frame, chosen.compressed.factors.rank}};
+            writer.addMetadata(basis::makeMetadata(d, "{}"));
+            writer.commit();
+            EXPECT_LT(written.bytes(), original_bytes);
+            if (share > 0) {
+                EXPECT_LE(written.bytes(), share);
+            }
+        }
+        const std::vector<double> b1 = basisOf(basis::BasisPackage::open(file).loadFrame(fr.frame));
+        double diff = 0.0;
+        for (size_t i = 0; i < b0.size(); ++i) diff += (b1[i] - b0[i]) * (b1[i] - b0[i]);
+        if (t.basis_error > 0.0) {
+            // Against the stored frame, the new error alone: within the target, which holds it and
+            // the recorded errors together (they add in squares).
+            EXPECT_LE(std::sqrt(diff / norm), target);
+            EXPECT_LE(chosen.predicted_error, target * (1 + 1e-9));
+        }
+    }
+    // Half the error the package already holds: not met, whatever is chosen.
+    const double held = std::hypot(fr.truncation_error, fr.quantisation_error);
+    ASSERT_GT(held, 0.0);
+    const FramePrecision tighter = chooseStoredFramePrecision(stored, package.description(), CompressionSettings{}, {},
+                                                              {.basis_error = held / 2}, 0);
+    EXPECT_FALSE(tighter.target_met);
+    EXPECT_GE(tighter.predicted_error, held * 0.9) << "the recorded errors stay in the prediction";
 }
 
 }  // namespace

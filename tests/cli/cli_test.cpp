@@ -192,6 +192,35 @@ TEST(Cli, RepackAndBytesPerFrame) {
     EXPECT_FALSE(std::filesystem::exists(dir / "x.firelook"));
 }
 
+// repack --target-error / --target-size: what was chosen is recorded per frame; a target error
+// below what the package already holds is said on stderr (repack cannot restore precision).
+TEST(Cli, RepackToATarget) {
+    TempDir dir;
+    bakeTiny(dir);
+    CommandResult r = runFirelook(dir, "repack pkg.firelook -o e.firelook --target-error 0.05");
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    r = runFirelook(dir, "info --json e.firelook");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json repacked = json::parse(r.out).at("metadata").at("repacked");
+    EXPECT_EQ(repacked.at("target_error"), 0.05);
+    EXPECT_TRUE(repacked.at("frames")[0].at("met").get<bool>());
+    EXPECT_LE(repacked.at("frames")[0].at("predicted_error").get<double>(), 0.05);
+    EXPECT_LE(std::filesystem::file_size(dir / "e.firelook"), std::filesystem::file_size(dir / "pkg.firelook"));
+
+    r = runFirelook(dir, "repack pkg.firelook -o t.firelook --target-error 0.00001");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("--target-error is below what the package holds"), std::string::npos) << r.err;
+
+    const uint64_t half = std::filesystem::file_size(dir / "pkg.firelook") * 3 / 4 + 16384;
+    r = runFirelook(dir, "repack pkg.firelook -o s.firelook --target-size " + std::to_string(half));
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_LE(std::filesystem::file_size(dir / "s.firelook"), half);
+
+    r = runFirelook(dir, "repack pkg.firelook -o x.firelook --target-size 1M --target-error 0.01");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_FALSE(std::filesystem::exists(dir / "x.firelook"));
+}
+
 TEST(Cli, RenderWithAnotherAlbedoFails) {
     TempDir dir;
     bakeTiny(dir);
