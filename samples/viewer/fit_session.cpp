@@ -24,15 +24,6 @@ void applyThreshold(const FitRequest& request, const std::vector<float>& rgba, s
                           " is above the threshold " + std::to_string(request.threshold) + " (nothing to fit)");
 }
 
-std::string lookJson(fl_look look) {
-    size_t size = 0;
-    check(fl_look_to_json(look, nullptr, 0, &size), "fl_look_to_json");
-    std::string text(size, '\0');
-    check(fl_look_to_json(look, text.data(), text.size(), &size), "fl_look_to_json");
-    text.resize(size > 0 ? size - 1 : 0);  // drop the NUL
-    return text;
-}
-
 }  // namespace
 
 std::vector<float> renderLookImage(fl_package package, const fl_package_info& info, fl_look look, int frame) {
@@ -162,7 +153,7 @@ void FitSession::run(fl_package package, fl_package_info info, fl_fit_desc desc,
         }
         check(result, "fl_package_fit_look");
         done.fit_rgba = renderLookImage(package, info, look, desc.frame);
-        done.look_json = lookJson(look);
+        done.look_json = lookToJsonText(look);
         fl_look_release(look);
         look = fl_look{};
         done.difference_rgba = image::fitDifference(target, match_alpha, background, done.fit_rgba);

@@ -327,8 +327,14 @@ bool ViewerApp::acceptMatch() {
 }
 
 void ViewerApp::pollMatch() {
-    const uint64_t seen = match_.version;
-    if (fit_.poll(match_) && match_.status == FitStatus::Done && match_.version != seen) {
+    const FitStatus before = match_.status;
+    const bool fresh = fit_.poll(match_);
+    if (fresh && match_.status != before) {
+        if (match_.status == FitStatus::Done) setStatus("fit done: Accept puts the look into the editor", false);
+        if (match_.status == FitStatus::Cancelled) setStatus("fit cancelled", false);
+        if (match_.status == FitStatus::Failed) setStatus(match_.error, true);
+    }
+    if (fresh && match_.status == FitStatus::Done) {
         const int w = match_.width, h = match_.height;
         uploadRgba(match_.target_rgba, w, h, match_target_linear_);
         uploadRgba(match_.fit_rgba, w, h, match_fit_linear_);
