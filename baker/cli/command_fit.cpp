@@ -3,6 +3,7 @@
 // Inverse design (issue 17): the look inside the baked ranges whose recombined image best matches
 // a target (runtime/fit/look_fit.h), written as a look file that render, the viewer and the plugin read.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include <memory_resource>
 #include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include "bake/scene_setup.h"
 #include "basis/basis_package.h"
@@ -18,8 +20,8 @@
 #include "cli/output_option.h"
 #include "cli/progress_bar.h"
 #include "fit/look_fit.h"
+#include "image/fit_target.h"
 #include "image/image_io.h"
-#include "image/srgb.h"
 #include "look/look.h"
 
 namespace firelook::cli {
@@ -34,19 +36,6 @@ std::string framePath(const std::string& pattern, int frame) {
     std::string number = std::to_string(frame);
     if (number.size() < width) number.insert(0, width - number.size(), '0');
     return pattern.substr(0, first) + number + (last == std::string::npos ? "" : pattern.substr(last));
-}
-
-bool isPng(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-    return ext == ".png";
-}
-
-// d(sRGB)/d(linear) at v: the weight that makes a linear error count as it shows on a display.
-// Below the sRGB curve's linear toe the slope is the toe's, 12.92.
-double srgbSlope(double v) {
-    v = std::max(v, 0.0031308);
-    return v >= 1.0 ? 0.0 : 1.055 / 2.4 * std::pow(v, 1.0 / 2.4 - 1.0);
 }
 
 Rgb parseBackground(const std::string& text) {
@@ -77,68 +66,28 @@ struct TargetFlags {
     double exposure = 0.0;
 };
 
-// Reads one frame's target and mask into what the fit compares (fit_target.h): EXR as linear
-// premultiplied RGBA; PNG decoded through the display transform `render` uses for PNG, the
-// exposure undone, each pixel weighted by the sRGB curve's slope at its shown value (so the fit
-// minimises the error as displayed, to first order) and clipped pixels left out. A target opaque
-// everywhere, or any target with --background, is the effect composited over that background
-// (black by default); otherwise its alpha is matched. Adds the clipped pixels it left out to `clipped`.
+// One frame's target and mask (image/fit_target.h, shared with the viewer) as the fit takes it;
+// adds the clipped pixels it left out to `clipped_pixels`.
 fit::FrameTarget readTarget(const TargetFlags& flags, int frame, const basis::BakeDescription& d, size_t& clipped_pixels) {
+    image::FitTargetRequest request;
+    request.target = framePath(flags.target, frame);
+    if (!flags.mask.empty()) request.mask = framePath(flags.mask, frame);
+    request.width = d.width;
+    request.height = d.height;
+    request.frame = frame;
+    if (!flags.background.empty()) {
+        const Rgb b = parseBackground(flags.background);
+        request.background = std::array<float, 3>{b.r, b.g, b.b};
+    }
+    request.exposure = flags.exposure;
+    image::FitTargetImage read = image::readFitTarget(request);
+    clipped_pixels += read.clipped_pixels;
     fit::FrameTarget target;
     target.frame = frame;
-    const std::string path = framePath(flags.target, frame);
-    if (!std::filesystem::exists(path)) throw std::runtime_error(path + ": no such target image (frame " + std::to_string(frame) + ")");
-    const image::ImageRGBA img = image::readImage(path);
-    if (img.width != d.width || img.height != d.height)
-        throw std::runtime_error(path + ": " + std::to_string(img.width) + "x" + std::to_string(img.height) +
-                                 ", but the package's images are " + std::to_string(d.width) + "x" +
-                                 std::to_string(d.height));
-    const size_t pixels = static_cast<size_t>(d.pixelCount());
-    target.rgba = img.pixels;
-    for (float v : target.rgba)
-        if (!std::isfinite(v)) throw std::runtime_error(path + ": holds a value that is not finite");
-    target.weight.assign(pixels, 1.0f);
-    if (!flags.mask.empty()) {
-        const std::string mask_path = framePath(flags.mask, frame);
-        if (!std::filesystem::exists(mask_path)) throw std::runtime_error(mask_path + ": no such mask image");
-        const image::ImageRGBA mask = image::readImage(mask_path);
-        if (mask.width != d.width || mask.height != d.height)
-            throw std::runtime_error(mask_path + ": mask is " + std::to_string(mask.width) + "x" +
-                                     std::to_string(mask.height) + ", but the package's images are " +
-                                     std::to_string(d.width) + "x" + std::to_string(d.height));
-        for (size_t p = 0; p < pixels; ++p) {
-            const float m = mask.pixels[4 * p];
-            target.weight[p] = std::isfinite(m) ? std::clamp(m, 0.0f, 1.0f) : 0.0f;
-        }
-    }
-    bool opaque = true;
-    for (size_t p = 0; p < pixels; ++p) opaque = opaque && target.rgba[4 * p + 3] >= 1.0f;
-    target.match_alpha = flags.background.empty() && !opaque;
-    if (!flags.background.empty()) target.background = parseBackground(flags.background);
-
-    if (isPng(path)) {
-        // 254.5 / 255 in sRGB: a channel stored as 255 may have been clipped.
-        const double clip = image::srgbToLinear(254.5 / 255.0);
-        for (size_t p = 0; p < pixels; ++p) {
-            float* t = target.rgba.data() + 4 * p;
-            const double alpha = t[3];
-            bool clipped = false;
-            for (int c = 0; c < 3; ++c) clipped = clipped || (alpha > 0.0 && t[c] / alpha >= clip);
-            const double shown = 0.2126 * t[0] + 0.7152 * t[1] + 0.0722 * t[2];
-            const double slope = srgbSlope(shown);
-            if (clipped && target.weight[p] > 0.0f) ++clipped_pixels;
-            target.weight[p] = clipped ? 0.0f : static_cast<float>(target.weight[p] * slope * slope);
-        }
-    }
-    if (std::all_of(target.weight.begin(), target.weight.end(), [](float w) { return w == 0.0f; }))
-        throw std::runtime_error((flags.mask.empty() ? path : framePath(flags.mask, frame)) +
-                                 ": leaves no pixel of frame " + std::to_string(frame) + " to fit (" +
-                                 (flags.mask.empty() ? "every pixel is clipped" : "the mask is 0 everywhere") +
-                                 (flags.mask.empty() || !isPng(path) ? "" : " or clipped") + ")");
-    const float unexpose = static_cast<float>(std::exp2(-flags.exposure));
-    for (size_t p = 0; p < pixels; ++p)
-        for (int c = 0; c < 3; ++c) target.rgba[4 * p + c] *= unexpose;
-    if (!target.match_alpha) target.background *= unexpose;  // the background was drawn exposed too
+    target.rgba = std::move(read.rgba);
+    target.weight = std::move(read.weight);
+    target.match_alpha = read.match_alpha;
+    target.background = Rgb(read.background[0], read.background[1], read.background[2]);
     return target;
 }
 
@@ -160,15 +109,9 @@ void writeOutputs(const std::string& image_pattern, const std::string& differenc
             image::writeImage(framePath(image_pattern, t.frame), out, options);
         }
         if (!difference_pattern.empty()) {
-            // |fit - target| in linear RGB (the composite where alpha is not matched), opaque.
             image::ImageRGBA diff(d.width, d.height);
-            for (size_t p = 0; p < static_cast<size_t>(d.pixelCount()); ++p) {
-                const float* i = result.images[f].data() + 4 * p;
-                const float uncovered = t.match_alpha ? 0.0f : 1.0f - i[3];
-                for (int c = 0; c < 3; ++c)
-                    diff.pixels[4 * p + c] = std::abs(i[c] + uncovered * t.background[c] - t.rgba[4 * p + c]);
-                diff.pixels[4 * p + 3] = 1.0f;
-            }
+            diff.pixels = image::fitDifference(t.rgba, t.match_alpha, {t.background.r, t.background.g, t.background.b},
+                                               result.images[f]);
             image::WriteOptions diff_options;
             diff_options.png_exposure_stops = exposure;
             image::writeImage(framePath(difference_pattern, t.frame), diff, diff_options);
@@ -269,7 +212,7 @@ void registerFitCommand(CLI::App& app) {
         const bool alpha = targets.front().match_alpha;
         std::printf("fit %zu frame(s) of %s to %s: relative RMSE %.4f%% (linear RGB%s)", targets.size(),
                     args->package.c_str(), args->target.target.c_str(), 100.0 * result.relative_rmse,
-                    isPng(args->target.target) ? ", display-weighted fit" : "");
+                    image::isPngPath(args->target.target) ? ", display-weighted fit" : "");
         if (alpha) std::printf(", alpha RMSE %.5f, max alpha error %.4f", result.alpha_rmse, result.alpha_max_error);
         std::printf("\n");
         // A clipped pixel says only that its value was at least the clip: it is left out, so a target

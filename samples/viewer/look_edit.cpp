@@ -16,15 +16,6 @@ Rgb3 rgbFrom(const Json& j) {
     return {j.at(0).get<float>(), j.at(1).get<float>(), j.at(2).get<float>()};
 }
 
-std::string lookToJsonText(fl_look look) {
-    size_t size = 0;
-    check(fl_look_to_json(look, nullptr, 0, &size), "fl_look_to_json");
-    std::string text(size, '\0');
-    check(fl_look_to_json(look, text.data(), text.size(), &size), "fl_look_to_json");
-    text.resize(size > 0 ? size - 1 : 0);  // drop the NUL
-    return text;
-}
-
 // Releases an fl_look at scope exit.
 struct LookHolder {
     fl_look look{};
@@ -34,6 +25,15 @@ struct LookHolder {
 };
 
 }  // namespace
+
+std::string lookToJsonText(fl_look look) {
+    size_t size = 0;
+    check(fl_look_to_json(look, nullptr, 0, &size), "fl_look_to_json");
+    std::string text(size, '\0');
+    check(fl_look_to_json(look, text.data(), text.size(), &size), "fl_look_to_json");
+    text.resize(size > 0 ? size - 1 : 0);  // drop the NUL
+    return text;
+}
 
 const std::vector<std::string>& presetNames() {
     static const std::vector<std::string> names = {"fire", "blackbody"};

@@ -51,6 +51,9 @@ LookEdit parseLookEdit(const std::string& json, const std::string& source);
 // An fl_look for `look` (caller releases). Throws ViewerError with the library's message.
 fl_look makeFlLook(const LookEdit& look, const std::string& source);
 
+// fl_look_to_json's text of an fl_look. Throws ViewerError.
+std::string lookToJsonText(fl_look look);
+
 // The canonical look-file text the CLI reads and writes (fl_look_to_json of the look).
 std::string canonicalLookJson(const LookEdit& look);
 

@@ -72,16 +72,27 @@ int runBatch(ViewerApp& app, Window& window, const Options& o, bool ui) {
     std::vector<unsigned char> capture;
     int capture_w = 0, capture_h = 0;
     auto previous = Clock::now();
+    // The match-target fit started at the first frame is still running (a poll may not have seen it yet).
+    const auto fitting = [&] {
+        return !o.match_target.empty() &&
+               (app.match().status == FitStatus::Running || app.match().status == FitStatus::Idle);
+    };
     for (int i = 0;; ++i) {
         const bool waiting_for_qa = o.qa_spp > 0 && app.qaStarted() && (app.qa().running || app.qa().version == 0);
-        if (i >= o.frames_to_run && !waiting_for_qa) break;
+        if (i >= o.frames_to_run && !waiting_for_qa && !fitting()) break;
         // While only the QA reference is left, give it the cores.
         if (i >= o.frames_to_run) std::this_thread::sleep_for(std::chrono::milliseconds(100));
         window.pollEvents();
         app.step(i >= o.frames_to_run ? 0.0 : dt);
         if (!app.step_error.empty()) throw ViewerError(app.step_error);
         if (i == 0 && o.qa_spp > 0) app.startQa();
-        const bool last = i + 1 >= o.frames_to_run && !(o.qa_spp > 0 && (app.qa().running || app.qa().version == 0));
+        if (i == 0 && !o.match_target.empty()) {
+            app.match_request.target = o.match_target;
+            app.startMatch();
+            if (app.match().status == FitStatus::Idle && app.status.error) throw ViewerError(app.status.text);
+        }
+        const bool last = i + 1 >= o.frames_to_run && !(o.qa_spp > 0 && (app.qa().running || app.qa().version == 0)) &&
+                          !fitting();
         if (ui) {
             int w = 0, h = 0;
             window.framebufferSize(w, h);
@@ -100,6 +111,13 @@ int runBatch(ViewerApp& app, Window& window, const Options& o, bool ui) {
         std::printf("qa: frame %d, %d spp, relative RMSE %.6f, max alpha error %.6f, reference noise %.6f\n",
                     app.session()->state().frame, r.spp, app.qaMeasures().relative_rmse,
                     app.qaMeasures().max_alpha_error, r.estimated_relative_rmse);
+    }
+    if (!o.match_target.empty()) {
+        const FitSnapshot& m = app.match();
+        if (m.status == FitStatus::Failed) throw ViewerError("match target: " + m.error);
+        std::printf("match: frame %d, relative RMSE %.6f, alpha RMSE %.6f, %d extinction settings, %.2f s\n",
+                    app.match_request.frame, m.report.relative_rmse, m.report.alpha_rmse, m.report.evaluations,
+                    m.seconds);
     }
     if (!o.screenshot.empty()) {
         std::vector<float> rgba;

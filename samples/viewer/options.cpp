@@ -27,6 +27,9 @@ int parseOptions(int argc, char** argv, Options& o) {
     app.add_option("--looks-dir", o.looks_dir, "folder of look files offered as presets");
     app.add_option("--qa-spp", o.qa_spp, "start the QA reference with N samples per pixel (batch: wait for it)")
         ->check(CLI::NonNegativeNumber);
+    app.add_option("--match-target", o.match_target,
+                   "batch mode: fit the frame shown to this target image (.exr/.png) as the Match target panel "
+                   "does, wait for it and print the error");
     app.add_option("--exposure", o.exposure, "display exposure in stops (PNG screenshots too)");
     app.add_flag("--flare", o.flare, "lens flare on");
     app.add_flag("--compare", o.compare, "show the GPU-vs-CPU difference view");
@@ -59,9 +62,10 @@ int parseOptions(int argc, char** argv, Options& o) {
         std::fprintf(stderr, "firelook_viewer: error: --frames-to-run needs a PACKAGE\n");
         return 2;
     }
-    if (!o.batch() && (!o.screenshot.empty() || !o.ui_screenshot.empty() || o.timings || !o.export_sequence.empty())) {
+    if (!o.batch() && (!o.screenshot.empty() || !o.ui_screenshot.empty() || o.timings || !o.export_sequence.empty() ||
+                        !o.match_target.empty())) {
         std::fprintf(stderr,
-                     "firelook_viewer: error: --screenshot, --ui-screenshot, --timings and --export-sequence need "
+                     "firelook_viewer: error: --screenshot, --ui-screenshot, --timings, --export-sequence and --match-target need "
                      "--frames-to-run\n");
         return 2;
     }

@@ -25,6 +25,7 @@ struct Options {
     ReconstructionPath path = ReconstructionPath::Gpu;
     int width = 1280, height = 800;
     bool timings = false;
+    std::string match_target;  // batch: fit the frame shown to this target image (waits for it)
     int qa_spp = 0;          // > 0: start the QA reference at start with this many samples per pixel
     float exposure = 0.0f;
     bool flare = false;

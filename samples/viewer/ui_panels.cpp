@@ -8,13 +8,13 @@
 #include <cstdio>
 
 #include "look_resolution.h"
+#include "match_target_panel.h"
+#include "ui_image.h"
 
 namespace firelook::viewer {
 namespace {
 
 constexpr float kPanelWidth = 420.0f;
-
-ImTextureID textureId(GLuint texture) { return reinterpret_cast<ImTextureID>(static_cast<intptr_t>(texture)); }
 
 bool sliderDouble(const char* label, double& value, double lo, double hi, const char* format = "%.3f") {
     if (!(hi > lo)) {
@@ -387,13 +387,6 @@ void timingsPanel(ViewerApp& app) {
     ImGui::Text("%.1f fps (median frame)", median.frame_ms > 0 ? 1000.0 / median.frame_ms : 0.0);
 }
 
-void imageWithCaption(const char* caption, GLuint texture, float width, float aspect) {
-    ImGui::BeginGroup();
-    ImGui::TextUnformatted(caption);
-    if (texture) ImGui::Image(textureId(texture), ImVec2(width, width * aspect));
-    ImGui::EndGroup();
-}
-
 void viewport(ViewerApp& app, const FireLightView& fire_lights, float x, float width, float height) {
     ImGui::SetNextWindowPos(ImVec2(x, 0));
     ImGui::SetNextWindowSize(ImVec2(width, height));
@@ -404,7 +397,9 @@ void viewport(ViewerApp& app, const FireLightView& fire_lights, float x, float w
         const ImVec2 avail = ImGui::GetContentRegionAvail();
         const float caption = ImGui::GetTextLineHeightWithSpacing();
         const bool qa = app.qaStarted() && app.qaReferenceTexture();
-        if (!qa) {
+        if (matchTargetImages(app, avail.x, aspect)) {
+            // The fit's row replaces the real-time image while it is shown (Match target panel).
+        } else if (!qa) {
             const float w = std::min(avail.x, (avail.y - caption) / aspect);
             const char* what = app.compare && app.gpuAvailable() ? "|GPU - CPU| x gain" : app.usingGpu() ? "real time (GPU)" : "real time (CPU)";
             imageWithCaption(what, app.displayTarget().texture(), w, aspect);
@@ -445,6 +440,9 @@ void drawUi(ViewerApp& app, UiState& ui, int window_width, int window_height) {
         if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) displayPanel(app);
         if (ImGui::CollapsingHeader("Fire lights")) fireLightPanel(*s, ui.fire_lights);
         if (ImGui::CollapsingHeader("QA: reference", ImGuiTreeNodeFlags_DefaultOpen)) qaPanel(app);
+        // Opened once a fit has been started (e.g. by --match-target).
+        if (app.match().status != FitStatus::Idle) ImGui::SetNextItemOpen(true, ImGuiCond_Once);
+        if (ImGui::CollapsingHeader("Match target")) matchTargetPanel(app);
         if (ImGui::CollapsingHeader("Export")) exportPanel(app, ui);
         if (ImGui::CollapsingHeader("Timings", ImGuiTreeNodeFlags_DefaultOpen)) timingsPanel(app);
     }

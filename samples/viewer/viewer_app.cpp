@@ -77,6 +77,8 @@ bool ViewerApp::openPackage(const std::string& path_text) {
     try {
         std::unique_ptr<FireSession> next = FireSession::open(path_text);
         worker_.stop();
+        fit_.cancel();  // it fits the old package
+        match_ = FitSnapshot();
         qa_started_ = false;
         qa_ = ReferenceSnapshot();
         export_ = ExportJob();
@@ -172,6 +174,7 @@ void ViewerApp::step(double dt) {
         export_.active = false;
     }
     pollQa();
+    pollMatch();
 }
 
 void ViewerApp::recordFrameTime(double frame_ms) {
@@ -305,6 +308,52 @@ void ViewerApp::seekFrame(double frame) {
     } catch (const std::exception& e) {
         setStatus(e.what(), true);
     }
+}
+
+// ---- Match target --------------------------------------------------------------
+
+void ViewerApp::startMatch() {
+    if (!session_ || !session_->state().updated) return;
+    try {
+        match_request.frame = session_->state().frame;
+        fit_.start(session_->package(), session_->info(), match_request);
+        setStatus("fitting frame " + std::to_string(match_request.frame) + " to " + match_request.target, false);
+    } catch (const std::exception& e) {
+        setStatus(e.what(), true);
+    }
+}
+
+bool ViewerApp::acceptMatch() {
+    if (!session_) return false;
+    try {
+        fit_.accept(*session_);
+        setStatus("accepted the fitted look", false);
+        return true;
+    } catch (const std::exception& e) {
+        setStatus(e.what(), true);
+        return false;
+    }
+}
+
+void ViewerApp::pollMatch() {
+    const FitStatus before = match_.status;
+    const bool fresh = fit_.poll(match_);
+    if (fresh && match_.status != before) {
+        if (match_.status == FitStatus::Done) setStatus("fit done: Accept puts the look into the editor", false);
+        if (match_.status == FitStatus::Cancelled) setStatus("fit cancelled", false);
+        if (match_.status == FitStatus::Failed) setStatus(match_.error, true);
+    }
+    if (fresh && match_.status == FitStatus::Done) {
+        const int w = match_.width, h = match_.height;
+        uploadRgba(match_.target_rgba, w, h, match_target_linear_);
+        uploadRgba(match_.fit_rgba, w, h, match_fit_linear_);
+        uploadRgba(match_.difference_rgba, w, h, match_difference_linear_);
+    }
+    if (match_.status != FitStatus::Done) return;
+    // Re-composited every frame so exposure and background changes apply to all three.
+    compositor_->composite(match_target_linear_, 0, display, match_target_display_);
+    compositor_->composite(match_fit_linear_, 0, display, match_fit_display_);
+    compositor_->composite(match_difference_linear_, 0, display, match_difference_display_);
 }
 
 // ---- QA ----------------------------------------------------------------------

@@ -11,6 +11,7 @@
 #include "compositor.h"
 #include "cpu_path.h"
 #include "fire_session.h"
+#include "fit_session.h"
 #include "frame_timings.h"
 #include "gpu_reconstruction.h"
 #include "heat_map.h"
@@ -99,6 +100,17 @@ class ViewerApp {
     GLuint qaReferenceTexture() const { return qa_reference_display_.texture(); }
     GLuint qaHeatTexture() const { return qa_heat_.texture(); }
 
+    // Match target (fit_session.h): the fit of the frame shown to a target image.
+    FitRequest match_request;  // target, mask, background... (the frame is filled in)
+    void startMatch();
+    void cancelMatch() { fit_.cancel(); }
+    bool acceptMatch();  // the fitted look into the edited look; failures go to status
+    const FitSnapshot& match() const { return match_; }
+    bool match_shown = true;  // the viewport shows target / fit / difference while a fit is done
+    GLuint matchTargetTexture() const { return match_target_display_.texture(); }
+    GLuint matchFitTexture() const { return match_fit_display_.texture(); }
+    GLuint matchDifferenceTexture() const { return match_difference_display_.texture(); }
+
     // Export.
     ExportOptions export_options;
     bool export_png_over_background = false;
@@ -129,6 +141,7 @@ class ViewerApp {
     void loadPresets(const std::string& folder);
     void applyOutputs();
     void pollQa();
+    void pollMatch();
     void exportStep();
     ExportOptions effectiveExportOptions() const;
 
@@ -158,6 +171,11 @@ class ViewerApp {
     std::string qa_compare_error_;
     float qa_heat_scale_shown_ = -1.0f;
     gl::RenderTarget qa_realtime_linear_, qa_reference_linear_, qa_realtime_display_, qa_reference_display_, qa_heat_;
+
+    FitSession fit_;  // after session_: destroyed (its worker joined) before the package is released
+    FitSnapshot match_;
+    gl::RenderTarget match_target_linear_, match_fit_linear_, match_difference_linear_;
+    gl::RenderTarget match_target_display_, match_fit_display_, match_difference_display_;
 
     ExportJob export_;
 };

@@ -8,6 +8,8 @@
 //    `firelook render --light-dir` of the six-way "right" light's direction, and the GPU path (the
 //    plugin's shader file) equals the CPU path under a light from any direction; a package without
 //    six-way lights is refused;
+//  - --match-target fits the frame shown to a `firelook render` target (the Match target panel's
+//    fit) and a bad target fails with one line naming it; the viewer links no fit or runtime code;
 //  - a missing or corrupt package fails with one line naming the file (no display needed).
 // The package is baked by the ctest fixture viewer.bake_package (or here, when run by hand).
 #include <gtest/gtest.h>
@@ -277,6 +279,41 @@ TEST_F(Viewer, LightDirectionControl) {
     EXPECT_EQ(refused.exit_code, 1) << refused.output;
     EXPECT_NE(refused.output.find(package()), std::string::npos) << refused.output;
     EXPECT_NE(refused.output.find("six-way"), std::string::npos) << refused.output;
+}
+
+// The Match target panel's fit in batch mode: a target rendered by `firelook render` (half EXR:
+// rounding 2^-11 relative, far inside the bar) is matched within the fit's self-consistency bar,
+// 0.5 % relative RMSE (README "Look fitting"), and the panel is drawn into the UI screenshot.
+TEST_F(Viewer, MatchTargetFitsARenderedTarget) {
+    const std::string target = (dir_ / "target.exr").string();
+    cliRender("target.exr", 5, kLooks + "/fireball.json");
+    const auto ui = dir_ / "ui.png";
+    const ProcessResult r = viewer(quote(package()) + " --frame 5 --frames-to-run 2 --match-target " + quote(target) +
+                                   " --ui-screenshot " + quote(ui.string()));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const size_t at = r.output.find("match: frame 5, relative RMSE ");
+    ASSERT_NE(at, std::string::npos) << r.output;
+    const double rmse = std::stod(r.output.substr(at + std::string("match: frame 5, relative RMSE ").size()));
+    EXPECT_LT(rmse, 0.005) << r.output;
+    EXPECT_TRUE(std::filesystem::exists(ui));
+
+    const std::string missing = (dir_ / "missing.exr").string();
+    const ProcessResult bad = viewer(quote(package()) + " --frames-to-run 1 --match-target " + quote(missing));
+    EXPECT_EQ(bad.exit_code, 1);
+    EXPECT_NE(bad.output.find("firelook_viewer: error: "), std::string::npos) << bad.output;
+    EXPECT_NE(bad.output.find(missing), std::string::npos) << bad.output;
+}
+
+// The fit, like everything about the package, goes through the C API: the viewer defines no symbol
+// of the runtime's basis or fit code (they live in libfirelook_plugin only).
+TEST(ViewerLinks, NoRuntimeOrFitCodeInTheViewer) {
+    if (!onPath("nm")) GTEST_SKIP() << "no nm";
+    firelook::testing::TempDir dir;
+    const ProcessResult r = runShell("nm -C --defined-only " + quote(FIRELOOK_VIEWER), dir / "nm.log");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    ASSERT_NE(r.output.find("firelook::viewer::FitSession::start"), std::string::npos) << "nm output unreadable";
+    for (const char* forbidden : {"firelook::basis::", "firelook::fit::"})
+        EXPECT_EQ(r.output.find(forbidden), std::string::npos) << forbidden;
 }
 
 // No X server needed: the package is opened before any window.

@@ -1,17 +1,21 @@
 // Unit tests of the viewer's non-GL parts (compiled from samples/viewer): the editable look and
 // its JSON, the keyframe file, emission form conversions (which must not change the look), the
-// export file names and the QA error measures. No display needed.
+// export file names, the QA error measures and the "Match target" fit session. No display needed.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "../support/temp_dir.h"
+#include "image/image_io.h"
 #include "fl_check.h"
 #include "fire_session.h"
+#include "fit_session.h"
 #include "heat_map.h"
 #include "image_export.h"
 #include "keyframes_file.h"
@@ -115,29 +119,11 @@ TEST_F(ViewerUnit, KeyframeFileRoundTripsAndSorts) {
     }
 }
 
-// CPU image of one look through the C API.
+// CPU image of one look through the C API (the fit session's renderer).
 std::vector<float> renderThroughApi(fl_package package, const fl_package_info& info, const LookEdit& look, int frame) {
-    fl_world world{};
-    EXPECT_EQ(fl_world_create(nullptr, &world), FL_OK);
-    fl_instance_desc desc = fl_instance_desc_defaults();
-    desc.package = package;
-    fl_instance instance{};
-    EXPECT_EQ(fl_instance_create(world, &desc, &instance), FL_OK);
     const fl_look handle = makeFlLook(look, "test");
-    EXPECT_EQ(fl_instance_set_look(world, instance, handle), FL_OK) << fl_last_error();
+    std::vector<float> rgba = renderLookImage(package, info, handle, frame);
     fl_look_release(handle);
-    fl_playback_desc pb = fl_playback_desc_defaults();
-    pb.paused = 1;
-    pb.rate = 1.0;
-    pb.time = frame - info.first_frame;
-    fl_instance_set_playback(world, instance, &pb);
-    fl_outputs_desc out = fl_outputs_desc_defaults();
-    out.image = 1;
-    fl_instance_set_outputs(world, instance, &out);
-    EXPECT_EQ(fl_world_update(world, 0.0), FL_OK);
-    std::vector<float> rgba(static_cast<size_t>(info.width) * info.height * 4);
-    EXPECT_EQ(fl_instance_get_image(world, instance, rgba.data(), rgba.size()), FL_OK);
-    fl_world_destroy(world);
     return rgba;
 }
 
@@ -213,6 +199,180 @@ TEST(ViewerQa, MeasuresAreThoseOfFirelookCompare) {
     ASSERT_EQ(heat.size(), 8u);
     EXPECT_GT(heat[0], 0);  // the pixel with an error is not black
     EXPECT_EQ(heat[4] + heat[5] + heat[6], 0);  // the exact one is
+}
+
+
+// ---- Match target (fit_session.h) ----
+
+// Polls until the fit leaves Running (the 64x64 package fits in well under a second in release;
+// the bound only keeps a broken fit from hanging the suite, also under the sanitizers).
+FitSnapshot waitForFit(const FitSession& fit) {
+    FitSnapshot snapshot;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(100);
+    while (std::chrono::steady_clock::now() < deadline) {
+        fit.poll(snapshot);
+        if (snapshot.status != FitStatus::Running) return snapshot;
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    ADD_FAILURE() << "the fit did not finish";
+    return snapshot;
+}
+
+double relativeRmse(const std::vector<float>& image, const std::vector<float>& target) {
+    double num = 0.0, den = 0.0;
+    for (size_t i = 0; i < target.size(); ++i) {
+        if (i % 4 == 3) continue;
+        num += (image[i] - target[i]) * (image[i] - target[i]);
+        den += static_cast<double>(target[i]) * target[i];
+    }
+    return std::sqrt(num / den);
+}
+
+// A target rendered from a known look inside the baked ranges, written as a float EXR.
+struct KnownTarget {
+    LookEdit look;
+    std::vector<float> rgba;
+};
+KnownTarget writeKnownTarget(FireSession& session, const std::string& path) {
+    const fl_package_info& info = session.info();
+    KnownTarget known;
+    known.look = session.look();
+    known.look.temperature_threshold = 0.5 * (info.temperature_threshold_min + info.temperature_threshold_max);
+    known.look.smoke_extinction = 0.5 * (info.smoke_extinction_min + info.smoke_extinction_max);
+    known.look.preset_scale *= 1.5;
+    known.rgba = renderThroughApi(session.package(), info, known.look, 5);
+    image::ImageRGBA img(info.width, info.height);
+    img.pixels = known.rgba;
+    image::WriteOptions options;
+    options.exr_pixel_type = image::ExrPixelType::Float;
+    image::writeImage(path, img, options);
+    return known;
+}
+
+TEST_F(ViewerUnit, FitMatchesATargetOfAKnownLookAndAcceptSetsIt) {
+    firelook::testing::TempDir dir;
+    std::unique_ptr<FireSession> session = FireSession::open(packagePath());
+    const std::string target = (dir.path() / "target.exr").string();
+    const KnownTarget known = writeKnownTarget(*session, target);
+    FitSession fit;
+    FitRequest request;
+    request.frame = 5;
+    request.target = target;
+    fit.start(session->package(), session->info(), request);
+    const FitSnapshot done = waitForFit(fit);
+    ASSERT_EQ(done.status, FitStatus::Done) << done.error;
+    // The fit's self-consistency bar (README "Look fitting"): within 0.5 % relative RMSE of the target.
+    EXPECT_LT(done.report.relative_rmse, 0.005);
+    EXPECT_LT(relativeRmse(done.fit_rgba, known.rgba), 0.005);
+    EXPECT_EQ(done.target_rgba, known.rgba);
+    ASSERT_EQ(done.difference_rgba.size(), known.rgba.size());
+    for (size_t i = 0; i < known.rgba.size(); i += 4)
+        ASSERT_FLOAT_EQ(done.difference_rgba[i], std::abs(done.fit_rgba[i] - known.rgba[i])) << i;
+    EXPECT_DOUBLE_EQ(done.fraction, 1.0);
+
+    // Accept: the edited look becomes the fitted one and the viewer's instance shows the fit's image.
+    fit.accept(*session);
+    EXPECT_EQ(session->look(), parseLookEdit(done.look_json, "fitted"));
+    EXPECT_EQ(session->look().mode, EmissionMode::Bins);
+    session->setOutputs(true, FlareSettings{});
+    session->seek(5.0);
+    session->update(0.0);
+    std::vector<float> shown;
+    session->readImage(shown);
+    EXPECT_EQ(shown, done.fit_rgba);
+}
+
+TEST_F(ViewerUnit, CancelledFitLeavesTheLookUnchanged) {
+    firelook::testing::TempDir dir;
+    std::unique_ptr<FireSession> session = FireSession::open(packagePath());
+    const std::string target = (dir.path() / "target.exr").string();
+    writeKnownTarget(*session, target);
+    const LookEdit before = session->look();
+    FitSession fit;
+    FitRequest request;
+    request.frame = 5;
+    request.target = target;
+    fit.start(session->package(), session->info(), request);
+    fit.cancel();
+    FitSnapshot snapshot;
+    fit.poll(snapshot);
+    EXPECT_EQ(snapshot.status, FitStatus::Cancelled);
+    EXPECT_TRUE(snapshot.fit_rgba.empty());
+    EXPECT_THROW(fit.accept(*session), ViewerError);
+    EXPECT_EQ(session->look(), before);
+}
+
+TEST_F(ViewerUnit, FitErrorsNameTheFile) {
+    firelook::testing::TempDir dir;
+    std::unique_ptr<FireSession> session = FireSession::open(packagePath());
+    FitSession fit;
+    const auto messageOf = [&](const FitRequest& request) {
+        try {
+            fit.start(session->package(), session->info(), request);
+        } catch (const ViewerError& e) {
+            return std::string(e.what());
+        }
+        return std::string("(no error)");
+    };
+    FitRequest request;
+    request.frame = 5;
+    request.target = (dir.path() / "missing.exr").string();
+    EXPECT_NE(messageOf(request).find(request.target), std::string::npos) << messageOf(request);
+
+    const std::string small = (dir.path() / "small.exr").string();
+    image::writeImage(small, image::ImageRGBA(3, 2));
+    request.target = small;
+    const std::string wrong_size = messageOf(request);
+    EXPECT_NE(wrong_size.find(small), std::string::npos) << wrong_size;
+    EXPECT_NE(wrong_size.find("3x2"), std::string::npos) << wrong_size;
+
+    const std::string target = (dir.path() / "target.exr").string();
+    writeKnownTarget(*session, target);
+    request.target = target;
+    request.mask_kind = MaskKind::File;
+    request.mask = (dir.path() / "no_mask.png").string();
+    EXPECT_NE(messageOf(request).find(request.mask), std::string::npos);
+
+    // A threshold above every pixel's luminance leaves nothing to fit.
+    request.mask_kind = MaskKind::Threshold;
+    request.threshold = 1e30f;
+    const std::string nothing = messageOf(request);
+    EXPECT_NE(nothing.find(target), std::string::npos) << nothing;
+    EXPECT_NE(nothing.find("threshold"), std::string::npos) << nothing;
+}
+
+// The threshold mask leaves out the pixels at or below it: a fit to a target whose masked-out
+// pixels were spoiled still recovers the look.
+TEST_F(ViewerUnit, ThresholdMaskLeavesPixelsOut) {
+    firelook::testing::TempDir dir;
+    std::unique_ptr<FireSession> session = FireSession::open(packagePath());
+    const std::string clean = (dir.path() / "clean.exr").string();
+    const KnownTarget known = writeKnownTarget(*session, clean);
+    // Spoil the transparent pixels with a colour (alpha kept 0): only a mask on alpha ignores them.
+    image::ImageRGBA spoiled(session->info().width, session->info().height);
+    spoiled.pixels = known.rgba;
+    size_t spoiled_count = 0;
+    for (size_t p = 0; p < spoiled.pixels.size() / 4; ++p)
+        if (spoiled.pixels[4 * p + 3] <= 0.0f) {
+            spoiled.pixels[4 * p] = 5.0f;
+            ++spoiled_count;
+        }
+    ASSERT_GT(spoiled_count, 0u);
+    const std::string target = (dir.path() / "spoiled.exr").string();
+    image::WriteOptions options;
+    options.exr_pixel_type = image::ExrPixelType::Float;
+    image::writeImage(target, spoiled, options);
+    FitSession fit;
+    FitRequest request;
+    request.frame = 5;
+    request.target = target;
+    request.mask_kind = MaskKind::Threshold;
+    request.threshold_on_alpha = true;
+    request.threshold = 0.0f;
+    fit.start(session->package(), session->info(), request);
+    const FitSnapshot done = waitForFit(fit);
+    ASSERT_EQ(done.status, FitStatus::Done) << done.error;
+    EXPECT_LT(relativeRmse(done.fit_rgba, known.rgba), 0.005);
 }
 
 }  // namespace
