@@ -7,14 +7,16 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 flavour="${1:-release}"; shift || true
-# The sanitizer flavours keep line tables only (-g1): their reports still name file and line, and
-# they compile and link faster than with full debug information (they are built in every CI run).
+# Every flavour keeps line tables only (-g1): backtraces and sanitizer reports still name file and
+# line, and a build compiles and links about a third faster than with full debug information
+# (measured on four slow files: 41 s against 30 s in all). A debugger session wants
+# CMAKE_BUILD_TYPE=Debug anyway.
 lines_only=(-DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG")
 # Nor do they build the benchmarks, reports and samples that no test runs (FIRELOOK_BUILD_BENCHMARKS,
 # tests/CMakeLists.txt); the release flavour builds them so that they keep compiling.
 sanitized=("${lines_only[@]}" -DFIRELOOK_BUILD_BENCHMARKS=OFF)
 case "$flavour" in
-  release) extra=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DFIRELOOK_BUILD_BENCHMARKS=ON) ;;
+  release) extra=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "${lines_only[@]}" -DFIRELOOK_BUILD_BENCHMARKS=ON) ;;
   asan)    extra=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DFIRELOOK_SANITIZE=ON "${sanitized[@]}") ;;
   tsan)    extra=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DFIRELOOK_SANITIZE_THREAD=ON "${sanitized[@]}") ;;
   *) echo "build.sh: unknown flavour '$flavour' (release|asan|tsan)" >&2; exit 2 ;;
