@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <system_error>
 
-#include "package/package_reader.h"
+#include "package/container_reader.h"
 
 namespace firelook::bake {
 namespace {
@@ -59,7 +59,7 @@ std::optional<FrameMetadata> BakeCheckpoint::reusable(int frame, const nlohmann:
     const std::filesystem::path path = partPath(frame);
     if (!std::filesystem::exists(path)) return std::nullopt;
     try {
-        const package::PackageReader reader = package::PackageReader::open(path);
+        const package::ContainerReader reader = package::ContainerReader::open(path);
         const std::optional<std::string> meta = reader.metadata();
         if (!meta) throw std::runtime_error("it has no metadata");
         const BakeMetadata kept = splitMetadata(*meta, path);

@@ -18,7 +18,7 @@
 #include "bake/package_merge.h"
 #include "basis/basis_package.h"
 #include "look/look.h"
-#include "package/package_writer.h"
+#include "package/container_writer.h"
 #include "vdb/volume_frame.h"
 
 namespace firelook::bake {
@@ -410,7 +410,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
                               std::to_string(chosen.predicted_error)));
         // The frame's own package in the checkpoint folder, written atomically: from here on an
         // interrupted bake keeps it.
-        package::PackageWriter writer(parts.back());
+        package::ContainerWriter writer(parts.back());
         const basis::StoredFrame stored = basis::writeEncodedFrame(writer, frame_number, chosen.encoded);
         // The fire's point lights (basis/fire_lights.h), when asked for: optional, so older readers skip them.
         if (config.fire_lights) {

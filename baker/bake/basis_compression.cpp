@@ -72,8 +72,8 @@ CompressedFrame compressFrameBasis(const FrameBasis& basis, int frame, const Fra
     out.factors.frame = frame;
     out.factors.pixels = pixels;
     out.factors.columns = columns;
-    out.factors.depth_density = basis.depth_density;
-    out.factors.depth_sigmoid = basis.depth_sigmoid;
+    out.factors.depth_b = basis.depth_b;
+    out.factors.depth_a = basis.depth_a;
     for (int j = columns - 1; j >= 0; --j) out.singular_values.push_back(std::sqrt(lambda[j]));
     if (!(spectrum.total > 0.0)) return out;
 
@@ -120,8 +120,8 @@ CompressedFrame leadingColumns(const CompressedFrame& frame, int rank) {
     out.factors.frame = frame.factors.frame;
     out.factors.pixels = frame.factors.pixels;
     out.factors.columns = frame.factors.columns;
-    out.factors.depth_density = frame.factors.depth_density;
-    out.factors.depth_sigmoid = frame.factors.depth_sigmoid;
+    out.factors.depth_b = frame.factors.depth_b;
+    out.factors.depth_a = frame.factors.depth_a;
     out.factors.rank = rank;
     out.singular_values = frame.singular_values;
     double total = 0.0, kept = 0.0, quantisation = 0.0;

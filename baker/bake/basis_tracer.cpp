@@ -145,8 +145,8 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     out.matrix.assign(pixels * out.columns, 0.0f);
     const int per_axis = std::max(settings.footprint_samples_per_axis, 1);
     out.footprint_samples = per_axis * per_axis;
-    out.depth_density.assign(pixels * out.footprint_samples, 0.0f);
-    out.depth_sigmoid.assign(pixels * out.footprint_samples * tb.n_alpha, 0.0f);
+    out.depth_b.assign(pixels * out.footprint_samples, 0.0f);
+    out.depth_a.assign(pixels * out.footprint_samples * tb.n_alpha, 0.0f);
     if (medium.empty()) return out;
 
     auto clock = std::chrono::steady_clock::now();
@@ -256,7 +256,7 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
         std::vector<int> entry_of_slot(cells.slots, -1);
         std::vector<int> touched;
         std::vector<float> kernel;  // [entry][G]
-        std::vector<double> depth_sigmoid(tb.n_alpha);
+        std::vector<double> depth_a(tb.n_alpha);
         float smoke[kMaxAxisSamples], flame[kMaxAxisSamples], d_smoke[kMaxAxisSamples], d_flame[kMaxAxisSamples],
             lsm[kMaxAxisSamples], lfl[kMaxAxisSamples];
         int corner_slots[8];
@@ -280,14 +280,14 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                     std::fill(d_flame, d_flame + tb.n_tc, 0.0f);
                     std::fill(tau.begin(), tau.end(), 1.0f);
                     bool visible = true;  // some grid point still sees through to here
-                    double depth_density = 0.0;
-                    std::fill(depth_sigmoid.begin(), depth_sigmoid.end(), 0.0);
+                    double depth_b = 0.0;
+                    std::fill(depth_a.begin(), depth_a.end(), 0.0);
                     march(medium, ray, t0, t1, step, [&](const glm::dvec3& p, float dt, float rho, float t) {
                         if (!(rho > 0.0f)) return true;
-                        depth_density += double(rho) * dt;
+                        depth_b += double(rho) * dt;
                         const float tcl = tb.clampT(t);
                         for (int a = 0; a < tb.n_alpha; ++a)
-                            depth_sigmoid[a] += double(rho) * std::tanh((tcl - tb.alpha_tc[a]) * tb.inv_2dt) * dt;
+                            depth_a[a] += double(rho) * std::tanh((tcl - tb.alpha_tc[a]) * tb.inv_2dt) * dt;
                         if (!visible) return true;  // only the optical depths are still needed
                         tb.split(rho, t, smoke, flame);
                         tb.advanceDepths(smoke, flame, dt, d_smoke, d_flame);
@@ -328,9 +328,9 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                         visible = tb.maxTransmittance(d_smoke, d_flame) > kNegligibleTransmittance;
                         return true;
                     });
-                    out.depth_density[static_cast<size_t>(sample) * pixels + pixel] = static_cast<float>(depth_density);
-                    float* sigmoid_out = out.depth_sigmoid.data() + static_cast<size_t>(sample) * tb.n_alpha * pixels + pixel;
-                    for (int a = 0; a < tb.n_alpha; ++a) sigmoid_out[a * pixels] = static_cast<float>(depth_sigmoid[a]);
+                    out.depth_b[static_cast<size_t>(sample) * pixels + pixel] = static_cast<float>(depth_b);
+                    float* sigmoid_out = out.depth_a.data() + static_cast<size_t>(sample) * tb.n_alpha * pixels + pixel;
+                    for (int a = 0; a < tb.n_alpha; ++a) sigmoid_out[a * pixels] = static_cast<float>(depth_a[a]);
                 }
                 for (size_t e = 0; e < touched.size(); ++e) {
                     const float* k = kernel.data() + e * G;

@@ -119,8 +119,8 @@ struct FrameBasis {
     int columns = 0;
     std::vector<float> matrix;          // pixels x columns, pixel-major; column = point * C + c
     int footprint_samples = 1;          // rays per pixel
-    std::vector<float> depth_density;   // O_b: footprint sample x pixel
-    std::vector<float> depth_sigmoid;   // O_a: footprint sample x alpha threshold x pixel
+    std::vector<float> depth_b;   // O_b: footprint sample x pixel
+    std::vector<float> depth_a;   // O_a: footprint sample x alpha threshold x pixel
     int scattering_orders = 0;          // orders traced
     double last_order_fraction = 0.0;   // share of the total the last order added
     int cell_edge_voxels = 0;           // what the plan chose

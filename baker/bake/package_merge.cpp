@@ -6,21 +6,21 @@
 #include <stdexcept>
 
 #include "bake/bake_metadata.h"
-#include "package/package_reader.h"
-#include "package/package_writer.h"
+#include "package/container_reader.h"
+#include "package/container_writer.h"
 
 namespace firelook::bake {
 namespace {
 
 struct Part {
     std::filesystem::path path;
-    package::PackageReader reader;
+    package::ContainerReader reader;
     BakeMetadata meta;
     std::map<int, std::vector<package::SectionInfo>> sections;  // by frame, in file order
 };
 
 Part openPart(const std::filesystem::path& path) {
-    Part part{path, package::PackageReader::open(path), {}, {}};
+    Part part{path, package::ContainerReader::open(path), {}, {}};
     const std::optional<std::string> meta = part.reader.metadata();
     if (!meta) throw std::runtime_error(path.string() + ": package has no metadata (META) section");
     part.meta = splitMetadata(*meta, path);
@@ -107,7 +107,7 @@ MergeResult mergePackages(const std::vector<std::filesystem::path>& paths, const
                                      rangesText(missing) + " of the sequence (--allow-gaps accepts that)");
     }
 
-    package::PackageWriter writer(output);
+    package::ContainerWriter writer(output);
     std::vector<const FrameMetadata*> entries;
     for (const auto& [frame, index] : owner) {
         const Part& part = parts[index];

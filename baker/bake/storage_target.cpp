@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "package/package_writer.h"
+#include "package/container_writer.h"
 
 namespace firelook::bake {
 namespace {

@@ -44,7 +44,7 @@ LookKey parseKey(const std::string& text) {
 
 // The keys bracket as the runtime's keyframes do (runtime/world/keyframe_bracket.h).
 Look lookAtFrame(const std::vector<LookKey>& keys, int frame, const TemperatureBins& bins) {
-    const runtime::KeyframeBracket bracket = runtime::bracketKeyframes(keys, frame);
+    const world::KeyframeBracket bracket = world::bracketKeyframes(keys, frame);
     if (bracket.lo == bracket.hi) return keys[bracket.lo].look;
     return interpolateLooks(keys[bracket.lo].look, keys[bracket.hi].look, bracket.t, bins);
 }
@@ -68,7 +68,7 @@ void registerAnimateCommand(CLI::App& app) {
     cmd->add_option("--columns", args->columns, "contact sheet columns")->check(CLI::Range(1, 64))->capture_default_str();
     cmd->add_flag("--exr", args->exr, "also write linear premultiplied EXR frames");
     cmd->callback([args] {
-        const basis::BasisPackage package = basis::BasisPackage::open(args->package);
+        const basis::BasisReader package = basis::BasisReader::open(args->package);
         const basis::BakeDescription& d = package.description();
         std::vector<LookKey> keys;
         for (const std::string& k : args->keys) keys.push_back(parseKey(k));

@@ -241,11 +241,11 @@ void registerBenchCommand(CLI::App& app) {
         ->check(CLI::ExistingFile);
     addSequenceFlags(*cmd, args->sequence_flags);
     cmd->callback([args] {
-        const basis::BasisPackage package = basis::BasisPackage::open(args->package);
+        const basis::BasisReader package = basis::BasisReader::open(args->package);
         const basis::BakeDescription& d = package.description();
         const ordered_json metadata = ordered_json::parse(package.metadataJson());
         // The package's camera as the runtime reads it (checked: finite, a field of view in (0, pi)).
-        const std::optional<runtime::PackageCamera> baked = runtime::readPackageCamera(package.metadataJson(), args->package);
+        const std::optional<world::PackageCamera> baked = world::readPackageCamera(package.metadataJson(), args->package);
         if (!baked) throw std::runtime_error(args->package + ": the package records no camera to render references with");
         render::CameraParameters camera_parameters;
         camera_parameters.world_from_camera = baked->world_from_camera;

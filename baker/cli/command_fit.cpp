@@ -167,7 +167,7 @@ void registerFitCommand(CLI::App& app) {
         if (!std::isfinite(args->target.exposure)) throw std::invalid_argument("--exposure must be finite");
         for (const std::string& f : args->fix) applyFix(f, args->options);
         const auto start = std::chrono::steady_clock::now();
-        const basis::BasisPackage package = basis::BasisPackage::open(args->package);
+        const basis::BasisReader package = basis::BasisReader::open(args->package);
         const basis::BakeDescription& d = package.description();
 
         std::vector<int> selected;

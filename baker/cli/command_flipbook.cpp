@@ -54,7 +54,7 @@ void registerFlipbookCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--fps", args->fps, "frame rate recorded in the sidecar")->check(CLI::PositiveNumber)->capture_default_str();
     cmd->callback([args] {
-        const basis::BasisPackage package = basis::BasisPackage::open(args->package);
+        const basis::BasisReader package = basis::BasisReader::open(args->package);
         const basis::BakeDescription& d = package.description();
         const flipbook::Layout layout = flipbook::parseLayout(args->layout);
         const bool six_way = flipbook::usesSixWayLights(layout);

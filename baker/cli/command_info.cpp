@@ -10,7 +10,7 @@
 #include "basis/basis_package.h"
 #include "cli/commands.h"
 #include "cli/sequence_options.h"
-#include "package/package_reader.h"
+#include "package/container_reader.h"
 #include "world/package.h"
 #include "vdb/vdb_sequence.h"
 #include "vdb/volume_frame.h"
@@ -42,13 +42,13 @@ bool looksLikePackage(const std::filesystem::path& path) {
 // The frames' fire lights (basis/fire_lights.h) for the package's default look, all that are stored;
 // null for a package without them (or one the runtime cannot play: the rest of info still describes it).
 ordered_json fireLightsInfo(const std::filesystem::path& path) {
-    std::shared_ptr<const runtime::Package> p;
+    std::shared_ptr<const world::Package> p;
     try {
-        p = runtime::Package::open(path);
+        p = world::Package::open(path);
     } catch (const std::exception&) {
         return nullptr;
     }
-    const runtime::ResolvedLook& look = p->resolvedDefaultLook();
+    const world::ResolvedLook& look = p->resolvedDefaultLook();
     const basis::GridWeights weights = basis::interpolationWeights(p->description().axes, look.extinction);
     ordered_json frames = ordered_json::array();
     int stored = 0;
@@ -74,7 +74,7 @@ ordered_json fireLightsInfo(const std::filesystem::path& path) {
 }
 
 ordered_json packageInfo(const std::filesystem::path& path) {
-    const package::PackageReader reader = package::PackageReader::open(path);
+    const package::ContainerReader reader = package::ContainerReader::open(path);
     ordered_json info;
     info["kind"] = "package";
     info["file"] = path.string();

@@ -32,7 +32,7 @@ void registerRenderCommand(CLI::App& app) {
                            "in place of the six-way lights of a bake with --lights six-way (weighted, "
                            "docs/cli.md \"Light from any direction\")");
     cmd->callback([cmd, args] {
-        const basis::BasisPackage package = basis::BasisPackage::open(args->package);
+        const basis::BasisReader package = basis::BasisReader::open(args->package);
         const basis::BakeDescription& d = package.description();
         Look look = args->look.empty() ? parseLook(d.default_look_json, args->package + " (default look)")
                                              : loadLook(args->look);

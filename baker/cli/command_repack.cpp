@@ -82,7 +82,7 @@ void registerRepackCommand(CLI::App& app) {
         if (!args->target_size.empty()) target = {.package_bytes = bake::parseByteSize(args->target_size)};
         if (cmd->count("--target-error")) target = {.basis_error = args->target_error};
         bake::checkStorageTarget(target);
-        const basis::BasisPackage in = basis::BasisPackage::open(args->input);
+        const basis::BasisReader in = basis::BasisReader::open(args->input);
         basis::BakeDescription d = in.description();
         nlohmann::ordered_json extra = nlohmann::ordered_json::parse(in.metadataJson());
         for (const char* key : {"format", "version", "bake"}) extra.erase(key);
@@ -95,7 +95,7 @@ void registerRepackCommand(CLI::App& app) {
         }
         const uint64_t share =
             target.package_bytes > 0 ? bake::frameShareBytes(target, d.frames.size(), in.metadataJson().size()) : 0;
-        package::PackageWriter writer(args->output);
+        package::ContainerWriter writer(args->output);
         ProgressBar bar("repack");
         uint64_t before = 0, after = 0;
         for (const package::SectionInfo& s : in.reader().sections()) before += s.stored_size;

@@ -30,7 +30,7 @@ class SectionBuffer {
     SectionBuffer& operator=(SectionBuffer&&) noexcept;
 
   private:
-    friend class PackageReader;
+    friend class ContainerReader;
     std::vector<std::byte> bytes_;
     std::unique_ptr<detail::ZstdDecompressor> zstd_;
 };
@@ -53,23 +53,23 @@ struct ReaderOptions {
 //
 // The const member functions are safe to call from several threads at once. Move-only; owns the
 // mapping, so spans from mapped() live as long as the reader. Every failure throws PackageError
-// naming the file. A mapped file must not be modified in place while open (PackageWriter never
+// naming the file. A mapped file must not be modified in place while open (ContainerWriter never
 // does: it replaces files by rename).
-class PackageReader {
+class ContainerReader {
   public:
     using MemoryOwnership = detail::MemoryOwnership;
 
-    static PackageReader open(const std::filesystem::path& file, const ReaderOptions& options = {});
+    static ContainerReader open(const std::filesystem::path& file, const ReaderOptions& options = {});
     // A package held in memory (an engine's own archive), with exactly the checks and errors of
     // open(); `name` stands for the file in every message and in file(). Borrow: the bytes are used
     // in place and must stay valid and unchanged for the reader's life, and must be 64-byte aligned
     // (else InvalidArgument, before anything is read); Copy: copied into an aligned buffer now, any
     // alignment.
-    static PackageReader openMemory(std::span<const std::byte> bytes, MemoryOwnership ownership,
+    static ContainerReader openMemory(std::span<const std::byte> bytes, MemoryOwnership ownership,
                                     const std::filesystem::path& name, const ReaderOptions& options = {});
 
-    PackageReader(PackageReader&&) noexcept = default;
-    PackageReader& operator=(PackageReader&&) noexcept = default;
+    ContainerReader(ContainerReader&&) noexcept = default;
+    ContainerReader& operator=(ContainerReader&&) noexcept = default;
 
     FormatVersion version() const { return version_; }
     const std::filesystem::path& file() const { return file_; }  // or openMemory's name
@@ -92,7 +92,7 @@ class PackageReader {
     std::span<const std::byte> read(const SectionInfo& section, SectionBuffer& buffer) const;
 
     // The section's bytes as stored (compressed or not), checksum-verified, zero-copy: what
-    // PackageWriter::addStoredSection copies into another package.
+    // ContainerWriter::addStoredSection copies into another package.
     std::span<const std::byte> stored(const SectionInfo& section) const;
 
     // A zero-copy, 64-byte aligned view of a Raw section (InvalidArgument for Zstd), checksum-verified.
@@ -102,9 +102,9 @@ class PackageReader {
     std::optional<std::string> metadata() const;
 
   private:
-    PackageReader() = default;
+    ContainerReader() = default;
     // The checks shared by open() and openMemory(), on bytes already held.
-    static PackageReader validated(std::filesystem::path name, detail::MappedFile bytes,
+    static ContainerReader validated(std::filesystem::path name, detail::MappedFile bytes,
                                    const ReaderOptions& options);
     std::size_t indexOf(const SectionInfo& section, const char* operation) const;
     std::span<const std::byte> verifiedStoredBytes(std::size_t index) const;

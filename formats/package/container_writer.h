@@ -29,13 +29,13 @@ struct WriterOptions {
 // give identical bytes; nothing time- or host-dependent is stored.
 //
 // Not thread-safe; move-only. Every failure throws PackageError naming the destination.
-class PackageWriter {
+class ContainerWriter {
   public:
     // Creates the temporary file (IoError if the folder is missing or not writable).
-    explicit PackageWriter(std::filesystem::path destination, WriterOptions options = {});
-    ~PackageWriter();
-    PackageWriter(PackageWriter&&) noexcept;
-    PackageWriter& operator=(PackageWriter&&) noexcept;  // first discards this writer's uncommitted file
+    explicit ContainerWriter(std::filesystem::path destination, WriterOptions options = {});
+    ~ContainerWriter();
+    ContainerWriter(ContainerWriter&&) noexcept;
+    ContainerWriter& operator=(ContainerWriter&&) noexcept;  // first discards this writer's uncommitted file
 
     // Appends one section; `raw` may be empty. A (type, frame) pair may appear once
     // (InvalidArgument otherwise). `required` tells readers that do not understand `type` to refuse
@@ -44,7 +44,7 @@ class PackageWriter {
                            Codec codec = Codec::Zstd, bool required = true);
 
     // Appends a section of another package as it is stored there (`section` its index entry,
-    // `stored` its stored bytes, e.g. PackageReader::stored): no decompression or recompression, so
+    // `stored` its stored bytes, e.g. ContainerReader::stored): no decompression or recompression, so
     // a merge of packages keeps every section's bytes. The checksum is verified against `section`
     // (Corrupt otherwise); the same (type, frame) rule as addSection.
     SectionInfo addStoredSection(const SectionInfo& section, std::span<const std::byte> stored);

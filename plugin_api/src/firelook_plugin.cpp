@@ -1,4 +1,4 @@
-// The C API (include/firelook/firelook.h) over firelook::runtime. Every entry
+// The C API (include/firelook/firelook.h) over firelook::world. Every entry
 // point runs inside guarded(): exceptions become result codes plus a
 // per-thread message, so nothing C++ crosses the boundary.
 #include "firelook/firelook.h"
@@ -50,21 +50,21 @@ thread_local std::string t_last_error;
 // An instance handle of the C API: which world made it, and the world's own handle for it.
 struct InstanceRecord {
     uint32_t world = 0;
-    runtime::InstanceHandle handle = 0;
+    world::InstanceHandle handle = 0;
 };
 
 struct Context {
     std::mutex mutex;
     bool initialized = false;
-    runtime::MemoryHooks memory;
+    world::MemoryHooks memory;
     fl_log_fn log = nullptr;
     void* log_user = nullptr;
     int32_t log_level = 0;
     uint32_t keyframe_stride = sizeof(fl_keyframe);  // the caller's sizeof_keyframe
-    runtime::HandlePool<std::shared_ptr<const runtime::Package>> packages{runtime::HandleKind::Package};
-    runtime::HandlePool<std::shared_ptr<const Look>> looks{runtime::HandleKind::Look};
-    runtime::HandlePool<std::shared_ptr<runtime::World>> worlds{runtime::HandleKind::World};
-    runtime::HandlePool<InstanceRecord> instances{runtime::HandleKind::Instance};
+    world::HandlePool<std::shared_ptr<const world::Package>> packages{world::HandleKind::Package};
+    world::HandlePool<std::shared_ptr<const Look>> looks{world::HandleKind::Look};
+    world::HandlePool<std::shared_ptr<world::World>> worlds{world::HandleKind::World};
+    world::HandlePool<InstanceRecord> instances{world::HandleKind::Instance};
 };
 
 Context& context() {
@@ -147,8 +147,8 @@ void checkPointer(T* p, const char* what) {
     if (!p) fail(FL_ERROR_INVALID_ARGUMENT, std::string(what) + " is null");
 }
 
-// The pools' get() throws runtime::InvalidHandle (FL_ERROR_INVALID_HANDLE) saying why.
-std::shared_ptr<const runtime::Package> findPackage(fl_package h) {
+// The pools' get() throws world::InvalidHandle (FL_ERROR_INVALID_HANDLE) saying why.
+std::shared_ptr<const world::Package> findPackage(fl_package h) {
     Context& c = context();
     std::lock_guard lock(c.mutex);
     requireInit(c);
@@ -162,7 +162,7 @@ std::shared_ptr<const Look> findLook(fl_look h) {
     return c.looks.get(h.id);
 }
 
-runtime::World& findWorld(fl_world h) {
+world::World& findWorld(fl_world h) {
     Context& c = context();
     std::lock_guard lock(c.mutex);
     requireInit(c);
@@ -170,8 +170,8 @@ runtime::World& findWorld(fl_world h) {
 }
 
 struct WorldInstance {
-    runtime::World& world;
-    runtime::InstanceHandle instance;
+    world::World& world;
+    world::InstanceHandle instance;
 };
 
 // The world and the world's handle of an instance; refuses an instance that world did not create.
@@ -179,10 +179,10 @@ WorldInstance findInstance(fl_world w, fl_instance i) {
     Context& c = context();
     std::lock_guard lock(c.mutex);
     requireInit(c);
-    runtime::World& world = *c.worlds.get(w.id);
+    world::World& world = *c.worlds.get(w.id);
     const InstanceRecord& record = c.instances.get(i.id);
     if (record.world != w.id)
-        throw runtime::InvalidHandle("invalid instance handle " + std::to_string(i.id) + ": it belongs to another world (" +
+        throw world::InvalidHandle("invalid instance handle " + std::to_string(i.id) + ": it belongs to another world (" +
                                      std::to_string(record.world) + "), not to world " + std::to_string(w.id));
     return {world, record.handle};
 }
@@ -218,7 +218,7 @@ void checkCapacity(size_t capacity, size_t needed, const char* unit) {
                                             std::to_string(needed) + " needed");
 }
 
-int slotOrFail(const runtime::Package& p, int32_t frame) {
+int slotOrFail(const world::Package& p, int32_t frame) {
     const int slot = p.slotOf(frame);
     if (slot < 0) fail(FL_ERROR_NOT_FOUND, p.name() + ": no frame " + std::to_string(frame) + " in the package");
     return slot;
@@ -235,7 +235,7 @@ void loadPackage(fl_package* out, Open&& open) {
         std::lock_guard lock(c.mutex);
         requireInit(c);
     }
-    std::shared_ptr<const runtime::Package> package = open();
+    std::shared_ptr<const world::Package> package = open();
     const auto& d = package->description();
     const std::string loaded = "loaded " + package->name() + " (" + std::to_string(d.width) + "x" +
                                std::to_string(d.height) + ", " + std::to_string(d.frames.size()) + " frames)";
@@ -334,7 +334,7 @@ FIRELOOK_API fl_result fl_package_load(const char* path, fl_package* out) {
             std::error_code ec;
             if (!std::filesystem::is_regular_file(path, ec))
                 fail(FL_ERROR_IO, std::string(path) + ": no such file (or not a regular file)");
-            return runtime::Package::open(path);
+            return world::Package::open(path);
         });
     });
 }
@@ -351,17 +351,17 @@ FIRELOOK_API fl_result fl_package_load_memory(const void* data, size_t size, con
         // Unknown bits may be a newer caller's promise this library cannot keep: refused, not ignored.
         if ((d.flags & ~uint32_t{FL_PACKAGE_MEMORY_BORROW}) != 0)
             fail(FL_ERROR_INVALID_ARGUMENT, name + ": desc->flags has unknown bits (" + std::to_string(d.flags) + ")");
-        const auto ownership = (d.flags & FL_PACKAGE_MEMORY_BORROW) != 0 ? package::PackageReader::MemoryOwnership::Borrow
-                                                                         : package::PackageReader::MemoryOwnership::Copy;
+        const auto ownership = (d.flags & FL_PACKAGE_MEMORY_BORROW) != 0 ? package::ContainerReader::MemoryOwnership::Borrow
+                                                                         : package::ContainerReader::MemoryOwnership::Copy;
         loadPackage(out, [&] {
-            return runtime::Package::openMemory({static_cast<const std::byte*>(data), size}, ownership, name);
+            return world::Package::openMemory({static_cast<const std::byte*>(data), size}, ownership, name);
         });
     });
 }
 
 FIRELOOK_API fl_result fl_package_release(fl_package h) {
     return guarded("fl_package_release", [&] {
-        std::shared_ptr<const runtime::Package> doomed;
+        std::shared_ptr<const world::Package> doomed;
         Context& c = context();
         std::lock_guard lock(c.mutex);
         requireInit(c);
@@ -466,10 +466,10 @@ FIRELOOK_API fl_result fl_package_get_frame_depths(fl_package h, int32_t frame, 
         checkPointer(buffer, "buffer");
         checkCapacity(capacity, needed, "floats");
         const basis::FrameFactors f = p->loadSlot(slot);
-        std::copy(f.depth_density.begin(), f.depth_density.end(), buffer);
-        if (f.depth_density.size() + f.depth_sigmoid.size() != needed)
+        std::copy(f.depth_b.begin(), f.depth_b.end(), buffer);
+        if (f.depth_b.size() + f.depth_a.size() != needed)
             fail(FL_ERROR_CORRUPT, p->name() + ": optical depths of frame " + std::to_string(frame) + " have the wrong size");
-        std::copy(f.depth_sigmoid.begin(), f.depth_sigmoid.end(), buffer + f.depth_density.size());
+        std::copy(f.depth_a.begin(), f.depth_a.end(), buffer + f.depth_b.size());
     });
 }
 
@@ -477,7 +477,7 @@ FIRELOOK_API fl_result fl_package_get_camera(fl_package h, fl_camera* out) {
     return guarded("fl_package_get_camera", [&] {
         checkStruct(out, "out_camera");
         const auto p = findPackage(h);
-        const runtime::PackageCamera* camera = p->camera();
+        const world::PackageCamera* camera = p->camera();
         if (!camera) {
             if (!p->cameraProblem().empty()) fail(FL_ERROR_CORRUPT, p->cameraProblem());
             fail(FL_ERROR_NOT_FOUND, p->name() + ": the package records no camera (its META has no \"camera\")");
@@ -634,7 +634,7 @@ FIRELOOK_API fl_result fl_world_create(const fl_world_desc* desc, fl_world* out)
     return guarded("fl_world_create", [&] {
         checkPointer(out, "out_world");
         out->id = 0;
-        runtime::WorldSettings settings;
+        world::WorldSettings settings;
         if (desc) {
             const fl_world_desc d = readIn(desc, "desc");
             if (d.frame_cache_bytes) settings.frame_cache_bytes = static_cast<size_t>(d.frame_cache_bytes);
@@ -643,13 +643,13 @@ FIRELOOK_API fl_result fl_world_create(const fl_world_desc* desc, fl_world* out)
         std::lock_guard lock(c.mutex);
         requireInit(c);
         settings.memory = c.memory;
-        out->id = c.worlds.add(std::make_shared<runtime::World>(settings));
+        out->id = c.worlds.add(std::make_shared<world::World>(settings));
     });
 }
 
 FIRELOOK_API fl_result fl_world_destroy(fl_world h) {
     return guarded("fl_world_destroy", [&] {
-        std::shared_ptr<runtime::World> doomed;
+        std::shared_ptr<world::World> doomed;
         Context& c = context();
         std::lock_guard lock(c.mutex);
         requireInit(c);
@@ -674,7 +674,7 @@ FIRELOOK_API fl_result fl_world_instance_count(fl_world h, uint32_t* out_count) 
 
 FIRELOOK_API fl_result fl_world_memory(fl_world h, uint64_t* frame_cache_bytes, uint64_t* instance_bytes) {
     return guarded("fl_world_memory", [&] {
-        const runtime::World& world = findWorld(h);
+        const world::World& world = findWorld(h);
         if (frame_cache_bytes) *frame_cache_bytes = world.cacheBytes();
         if (instance_bytes) *instance_bytes = world.instanceBytes();
     });
@@ -685,11 +685,11 @@ FIRELOOK_API fl_result fl_instance_create(fl_world w, const fl_instance_desc* de
         checkPointer(out, "out_instance");
         out->id = 0;
         const fl_instance_desc d = readIn(desc, "desc");
-        runtime::World& world = findWorld(w);
+        world::World& world = findWorld(w);
         auto package = findPackage(d.package);
         std::shared_ptr<const Look> look;
         if (d.look.id != 0) look = findLook(d.look);
-        const runtime::InstanceHandle instance = world.create(std::move(package));
+        const world::InstanceHandle instance = world.create(std::move(package));
         try {
             if (look) world.setLook(instance, *look);
             Context& c = context();
@@ -743,7 +743,7 @@ FIRELOOK_API fl_result fl_instance_set_playback(fl_world w, fl_instance i, const
         const fl_playback_desc d = readIn(desc, "desc");
         checkFinite(d.time, "desc->time");
         checkFinite(d.rate, "desc->rate");
-        runtime::PlaybackSettings pb;
+        world::PlaybackSettings pb;
         pb.time = d.time;
         pb.rate = d.rate != 0.0 ? d.rate : 24.0;
         pb.playing = d.paused == 0;
@@ -760,11 +760,11 @@ FIRELOOK_API fl_result fl_instance_set_playback(fl_world w, fl_instance i, const
 FIRELOOK_API fl_result fl_instance_set_outputs(fl_world w, fl_instance i, const fl_outputs_desc* desc) {
     return guarded("fl_instance_set_outputs", [&] {
         const fl_outputs_desc d = readIn(desc, "desc");
-        runtime::OutputSettings out;
+        world::OutputSettings out;
         out.image = d.image != 0;
         out.lens_flare = d.lens_flare != 0;
-        runtime::LensFlareSettings& f = out.flare;
-        const runtime::LensFlareSettings defaults;
+        world::LensFlareSettings& f = out.flare;
+        const world::LensFlareSettings defaults;
         // 0 = default, negative = off (gains and counts); every value must be finite.
         const auto value = [](float given, float fallback, bool negative_is_off, const char* name) {
             if (!std::isfinite(given)) fail(FL_ERROR_INVALID_ARGUMENT, std::string(name) + " is not finite");
@@ -794,7 +794,7 @@ FIRELOOK_API fl_result fl_instance_get_state(fl_world w, fl_instance i, fl_insta
     return guarded("fl_instance_get_state", [&] {
         checkStruct(out, "out_state");
         const WorldInstance wi = findInstance(w, i);
-        const runtime::InstanceState s = wi.world.state(wi.instance);
+        const world::InstanceState s = wi.world.state(wi.instance);
         const basis::BakeDescription& d = wi.world.package(wi.instance).description();
         fl_instance_state r = {};
         r.updated = s.updated ? 1 : 0;
@@ -829,7 +829,7 @@ FIRELOOK_API fl_result fl_instance_get_coefficients(fl_world w, fl_instance i, f
                                                     int32_t* out_rank) {
     return guarded("fl_instance_get_coefficients", [&] {
         const WorldInstance wi = findInstance(w, i);
-        const runtime::InstanceState s = wi.world.state(wi.instance);
+        const world::InstanceState s = wi.world.state(wi.instance);
         if (out_rank) *out_rank = s.rank;
         if (capacity == 0 && !z) return;
         checkPointer(z, "z");
@@ -845,7 +845,7 @@ fl_result copyImage(const char* function, fl_world w, fl_instance i, float* rgba
     return guarded(function, [&] {
         checkPointer(rgba, "rgba");
         const WorldInstance wi = findInstance(w, i);
-        const runtime::InstanceState s = wi.world.state(wi.instance);
+        const world::InstanceState s = wi.world.state(wi.instance);
         const float* src = flare ? s.flare : s.image;
         if (!src)
             fail(FL_ERROR_NO_DATA, flare ? "the lens flare output is off or no update ran since it was turned on"
@@ -875,7 +875,7 @@ FIRELOOK_API fl_result fl_instance_get_look(fl_world w, fl_instance i, fl_look* 
 }
 
 namespace {
-void requireSixWayLights(const runtime::Package& p) {
+void requireSixWayLights(const world::Package& p) {
     if (p.description().six_way_first_light < 0)
         fail(FL_ERROR_NOT_FOUND, p.name() + ": baked without six-way lights (firelook bake --lights six-way)");
 }
@@ -884,7 +884,7 @@ void requireSixWayLights(const runtime::Package& p) {
 FIRELOOK_API fl_result fl_package_get_six_way_lights(fl_package h, int32_t* out_first_light) {
     return guarded("fl_package_get_six_way_lights", [&] {
         checkPointer(out_first_light, "out_first_light");
-        const std::shared_ptr<const runtime::Package> p = findPackage(h);
+        const std::shared_ptr<const world::Package> p = findPackage(h);
         requireSixWayLights(*p);
         *out_first_light = p->description().six_way_first_light;
     });
@@ -952,7 +952,7 @@ FIRELOOK_API fl_result fl_instance_get_frame_depths(fl_world w, fl_instance i, f
 namespace {
 // The fire lights of a package's frame (by slot) for a look's extinction and emission coefficients
 // (or for `look`, resolved here, when rbf is empty), written with the caller's stride.
-void writeFireLights(const runtime::Package& p, int slot, const Look* look, ExtinctionParams extinction,
+void writeFireLights(const world::Package& p, int slot, const Look* look, ExtinctionParams extinction,
                      std::span<const Rgb> rbf, uint32_t light_count, fl_fire_light* lights, uint32_t sizeof_light,
                      uint32_t capacity, uint32_t* out_max_count) {
     const basis::FireLightTable* table = p.fireLights(slot);
@@ -970,9 +970,9 @@ void writeFireLights(const runtime::Package& p, int slot, const Look* look, Exti
         fail(FL_ERROR_STRUCT_SIZE, "sizeof_light is " + std::to_string(sizeof_light) + ", expected at least " +
                                        std::to_string(FirstSize<fl_fire_light>::value));
     checkCapacity(capacity, light_count, "lights");
-    runtime::ResolvedLook resolved;
+    world::ResolvedLook resolved;
     if (look) {
-        resolved = runtime::resolveLook(*look, p.description());  // LookError
+        resolved = world::resolveLook(*look, p.description());  // LookError
         extinction = resolved.extinction;
         rbf = resolved.rbf;
     }
@@ -1012,9 +1012,9 @@ FIRELOOK_API fl_result fl_instance_get_fire_lights(fl_world w, fl_instance i, ui
                                                    uint32_t* out_max_count) {
     return guarded("fl_instance_get_fire_lights", [&] {
         const WorldInstance wi = findInstance(w, i);
-        const runtime::InstanceState state = wi.world.state(wi.instance);
+        const world::InstanceState state = wi.world.state(wi.instance);
         if (!state.updated) fail(FL_ERROR_NO_DATA, "no fl_world_update since the instance was created");
-        const runtime::Package& p = wi.world.package(wi.instance);
+        const world::Package& p = wi.world.package(wi.instance);
         // The extinction and emission coefficients the update interpolated: what the image shows.
         writeFireLights(p, slotOrFail(p, state.frame), nullptr, state.extinction, state.rbf, light_count, lights,
                         sizeof_light, capacity, out_max_count);

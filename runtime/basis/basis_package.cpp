@@ -11,7 +11,7 @@ namespace firelook::basis {
 namespace {
 
 template <typename T>
-std::vector<T> readArray(const package::PackageReader& reader, uint32_t type, int frame, size_t expected_count) {
+std::vector<T> readArray(const package::ContainerReader& reader, uint32_t type, int frame, size_t expected_count) {
     const package::SectionInfo* section = reader.find(type, static_cast<uint32_t>(frame));
     if (!section)
         throw std::runtime_error(reader.file().string() + ": frame " + std::to_string(frame) + " has no " +
@@ -34,7 +34,7 @@ namespace {
 constexpr float kLargestDepth = 65504.0f;
 float finiteOr(float v, float fallback) { return std::isfinite(v) ? v : fallback; }
 
-const package::SectionInfo& frameSection(const package::PackageReader& reader, uint32_t type, int frame) {
+const package::SectionInfo& frameSection(const package::ContainerReader& reader, uint32_t type, int frame) {
     const package::SectionInfo* section = reader.find(type, static_cast<uint32_t>(frame));
     if (!section)
         throw std::runtime_error(reader.file().string() + ": frame " + std::to_string(frame) + " has no " +
@@ -42,13 +42,13 @@ const package::SectionInfo& frameSection(const package::PackageReader& reader, u
     return *section;
 }
 
-std::vector<std::byte> readSection(const package::PackageReader& reader, uint32_t type, int frame) {
+std::vector<std::byte> readSection(const package::ContainerReader& reader, uint32_t type, int frame) {
     return reader.read(frameSection(reader, type, frame));
 }
 
-// Layout 1: U and depths as IEEE half, S V^T as float32, the sigmoid depths as their flame part
-// F = (O_a + O_b) / 2.
-FrameFactors loadLayout1(const package::PackageReader& reader, const BakeDescription& description, int frame,
+// Layout 1: U and depths as IEEE half, S V^T as float32, O_a stored as the flame part
+// F = (O_a + O_b) / 2 (docs/package-format.md).
+FrameFactors loadLayout1(const package::ContainerReader& reader, const BakeDescription& description, int frame,
                          int rank) {
     FrameFactors f = emptyFrameFactors(description, frame, rank);
     const size_t pixels = static_cast<size_t>(f.pixels);
@@ -57,28 +57,28 @@ FrameFactors loadLayout1(const package::PackageReader& reader, const BakeDescrip
     const size_t thresholds = description.alpha_thresholds.size();
     const size_t rays = pixels * description.footprint_samples;
     const std::vector<uint16_t> depths = readArray<uint16_t>(reader, kSectionDepths, frame, rays * (1 + thresholds));
-    f.depth_density.resize(rays);
+    f.depth_b.resize(rays);
     // Non-finite halves (packages written before depths were bounded) read as the bounds, so no
     // depth, and no alpha, is ever NaN.
     for (size_t i = 0; i < rays; ++i)
-        f.depth_density[i] = std::clamp(finiteOr(glm::unpackHalf1x16(depths[i]), kLargestDepth), 0.0f, kLargestDepth);
-    f.depth_sigmoid.resize(rays * thresholds);
-    for (size_t i = 0; i < f.depth_sigmoid.size(); ++i) {
+        f.depth_b[i] = std::clamp(finiteOr(glm::unpackHalf1x16(depths[i]), kLargestDepth), 0.0f, kLargestDepth);
+    f.depth_a.resize(rays * thresholds);
+    for (size_t i = 0; i < f.depth_a.size(); ++i) {
         const size_t ray = (i / (thresholds * pixels)) * pixels + i % pixels;
         const float flame = finiteOr(glm::unpackHalf1x16(depths[rays + i]), 0.0f);
-        f.depth_sigmoid[i] = 2.0f * flame - f.depth_density[ray];
+        f.depth_a[i] = 2.0f * flame - f.depth_b[ray];
     }
     return f;
 }
 
 }  // namespace
 
-StoredFrame writeFrameFactors(package::PackageWriter& writer, const BakeDescription& description,
+StoredFrame writeFrameFactors(package::ContainerWriter& writer, const BakeDescription& description,
                               const FrameFactors& factors, const FrameCodecSettings& settings) {
     return writeEncodedFrame(writer, factors.frame, encodeFrame(description, factors, settings));
 }
 
-StoredFrame writeEncodedFrame(package::PackageWriter& writer, int frame_number, const EncodedFrame& encoded) {
+StoredFrame writeEncodedFrame(package::ContainerWriter& writer, int frame_number, const EncodedFrame& encoded) {
     const auto frame = static_cast<uint32_t>(frame_number);
     StoredFrame stored;
     stored.u_error = encoded.u_error;
@@ -103,22 +103,22 @@ std::string makeMetadata(const BakeDescription& description, const std::string& 
     return doc.dump(2);
 }
 
-package::ReaderOptions BasisPackage::readerOptions() {
+package::ReaderOptions BasisReader::readerOptions() {
     package::ReaderOptions options;
     options.understood_types = {kSectionU, kSectionSVt, kSectionDepths, kSectionFireLights};
     return options;
 }
 
-BasisPackage BasisPackage::open(const std::filesystem::path& file) {
-    return fromReader(package::PackageReader::open(file, readerOptions()));
+BasisReader BasisReader::open(const std::filesystem::path& file) {
+    return fromReader(package::ContainerReader::open(file, readerOptions()));
 }
 
-BasisPackage BasisPackage::openMemory(std::span<const std::byte> bytes,
-                                      package::PackageReader::MemoryOwnership ownership, const std::string& name) {
-    return fromReader(package::PackageReader::openMemory(bytes, ownership, name, readerOptions()));
+BasisReader BasisReader::openMemory(std::span<const std::byte> bytes,
+                                      package::ContainerReader::MemoryOwnership ownership, const std::string& name) {
+    return fromReader(package::ContainerReader::openMemory(bytes, ownership, name, readerOptions()));
 }
 
-BasisPackage BasisPackage::fromReader(package::PackageReader reader) {
+BasisReader BasisReader::fromReader(package::ContainerReader reader) {
     const std::filesystem::path file = reader.file();
     const std::optional<std::string> metadata = reader.metadata();
     if (!metadata) throw std::runtime_error(file.string() + ": package has no metadata (META) section");
@@ -138,16 +138,16 @@ BasisPackage BasisPackage::fromReader(package::PackageReader reader) {
         throw std::runtime_error(file.string() + ": invalid metadata: " + e.what());
     }
     BakeDescription description = parseBakeDescription(bake_json, file.string());
-    return BasisPackage(std::move(reader), std::move(description), *metadata, layout);
+    return BasisReader(std::move(reader), std::move(description), *metadata, layout);
 }
 
-const FrameRecord& BasisPackage::record(int frame) const {
+const FrameRecord& BasisReader::record(int frame) const {
     const FrameRecord* record = description_.findFrame(frame);
     if (!record) throw std::runtime_error(file().string() + ": no frame " + std::to_string(frame) + " in the package");
     return *record;
 }
 
-FrameFactors BasisPackage::loadFrame(int frame) const {
+FrameFactors BasisReader::loadFrame(int frame) const {
     const int rank = record(frame).rank;
     if (layout_version_ == 1) return loadLayout1(reader_, description_, frame, rank);
     const std::vector<std::byte> u = readSection(reader_, kSectionU, frame);
@@ -156,7 +156,7 @@ FrameFactors BasisPackage::loadFrame(int frame) const {
     return decodeFrame(description_, frame, rank, u, svt, depths, file().string());
 }
 
-ResidentFrame BasisPackage::loadResidentFrame(int frame, std::pmr::memory_resource* memory,
+ResidentFrame BasisReader::loadResidentFrame(int frame, std::pmr::memory_resource* memory,
                                               std::shared_ptr<const DepthTable> table) const {
     ResidentFrame out(memory);
     out.depth_table = std::move(table);
@@ -165,7 +165,7 @@ ResidentFrame BasisPackage::loadResidentFrame(int frame, std::pmr::memory_resour
     return out;
 }
 
-void BasisPackage::loadResidentFrame(int frame, ResidentFrame& out, FrameReadBuffers& buffers) const {
+void BasisReader::loadResidentFrame(int frame, ResidentFrame& out, FrameReadBuffers& buffers) const {
     const int rank = record(frame).rank;
     if (layout_version_ == 1) {
         const EncodedFrame e =
@@ -182,7 +182,7 @@ void BasisPackage::loadResidentFrame(int frame, ResidentFrame& out, FrameReadBuf
     decodeResidentFrame(description_, frame, rank, u, svt, depths, file().string(), out);
 }
 
-std::optional<FireLightTable> BasisPackage::loadFireLights(int frame) const {
+std::optional<FireLightTable> BasisReader::loadFireLights(int frame) const {
     const package::SectionInfo* section = reader_.find(kSectionFireLights, static_cast<uint32_t>(frame));
     if (!section) return std::nullopt;
     return decodeFireLights(reader_.read(*section), description_.axes.pointCount(), description_.bins.count,

@@ -13,8 +13,8 @@
 #include "basis/fire_lights.h"
 #include "basis/frame_codec.h"
 #include "basis/frame_factors.h"
-#include "package/package_reader.h"
-#include "package/package_writer.h"
+#include "package/container_reader.h"
+#include "package/container_writer.h"
 
 namespace firelook::basis {
 
@@ -39,10 +39,10 @@ struct StoredFrame {
 };
 
 // Encodes one frame (frame_codec.h) and adds its three sections.
-StoredFrame writeFrameFactors(package::PackageWriter& writer, const BakeDescription& description,
+StoredFrame writeFrameFactors(package::ContainerWriter& writer, const BakeDescription& description,
                               const FrameFactors& factors, const FrameCodecSettings& settings = {});
 // Adds the three sections of a frame already encoded.
-StoredFrame writeEncodedFrame(package::PackageWriter& writer, int frame, const EncodedFrame& encoded);
+StoredFrame writeEncodedFrame(package::ContainerWriter& writer, int frame, const EncodedFrame& encoded);
 
 // The META document: {"format": "firelook-basis", "bake": <description>, ...extra}.
 // `extra_json` is a JSON object whose members are added beside "bake" (provenance, errors).
@@ -53,19 +53,19 @@ struct FrameReadBuffers {
     package::SectionBuffer u, svt, depths;
 };
 
-class BasisPackage {
+class BasisReader {
 public:
     // Throws package::PackageError or std::runtime_error naming the file.
-    static BasisPackage open(const std::filesystem::path& file);
-    // The same from a package held in memory (package::PackageReader::openMemory: a borrowed buffer
-    // must be 64-byte aligned and outlive the BasisPackage unchanged); `name` stands for the file.
-    static BasisPackage openMemory(std::span<const std::byte> bytes, package::PackageReader::MemoryOwnership ownership,
+    static BasisReader open(const std::filesystem::path& file);
+    // The same from a package held in memory (package::ContainerReader::openMemory: a borrowed buffer
+    // must be 64-byte aligned and outlive the BasisReader unchanged); `name` stands for the file.
+    static BasisReader openMemory(std::span<const std::byte> bytes, package::ContainerReader::MemoryOwnership ownership,
                                    const std::string& name);
 
     const BakeDescription& description() const { return description_; }
     const std::string& metadataJson() const { return metadata_; }
     const std::filesystem::path& file() const { return reader_.file(); }  // or openMemory's name
-    const package::PackageReader& reader() const { return reader_; }
+    const package::ContainerReader& reader() const { return reader_; }
     int layoutVersion() const { return layout_version_; }
     // Decompresses and validates one frame (sizes against the description).
     FrameFactors loadFrame(int frame) const;
@@ -84,13 +84,13 @@ private:
     const FrameRecord& record(int frame) const;  // throws naming the file when there is no such frame
     // What open() and openMemory() share: the reader's options and the META checks.
     static package::ReaderOptions readerOptions();
-    static BasisPackage fromReader(package::PackageReader reader);
+    static BasisReader fromReader(package::ContainerReader reader);
 
-    BasisPackage(package::PackageReader reader, BakeDescription description, std::string metadata, int layout)
+    BasisReader(package::ContainerReader reader, BakeDescription description, std::string metadata, int layout)
         : reader_(std::move(reader)), description_(std::move(description)), metadata_(std::move(metadata)),
           layout_version_(layout) {}
 
-    package::PackageReader reader_;
+    package::ContainerReader reader_;
     BakeDescription description_;
     std::string metadata_;
     int layout_version_ = kBasisLayoutVersion;

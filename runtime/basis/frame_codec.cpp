@@ -322,7 +322,7 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
     const size_t rays = pixels * static_cast<size_t>(std::max(samples, 0));
     if (factors.pixels != static_cast<int>(pixels) || rank < 0 || factors.u_half.size() != pixels * rank ||
         factors.svt.size() != static_cast<size_t>(description.columnCount()) * rank || samples < 1 ||
-        thresholds == 0 || factors.depth_density.size() != rays || factors.depth_sigmoid.size() != rays * thresholds)
+        thresholds == 0 || factors.depth_b.size() != rays || factors.depth_a.size() != rays * thresholds)
         throw std::invalid_argument("frame " + std::to_string(factors.frame) +
                                     ": factor sizes do not match the description");
     if (!(settings.alpha_error > 0.0) || !(settings.basis_error > 0.0))
@@ -421,10 +421,10 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
         };
         // Per ray: O_b (NaN: opaque, as layout 1 did) and the smoke parts S_j = O_b - F_j.
         auto rayDepths = [&](int s, size_t p, double* smoke) {
-            const double density = factors.depth_density[static_cast<size_t>(s) * pixels + p];
+            const double density = factors.depth_b[static_cast<size_t>(s) * pixels + p];
             const double d = std::isnan(density) ? kLargestDepth : std::clamp(density, 0.0, kLargestDepth);
             for (size_t j = 0; j < thresholds; ++j) {
-                const double o_a = factors.depth_sigmoid[(static_cast<size_t>(s) * thresholds + j) * pixels + p];
+                const double o_a = factors.depth_a[(static_cast<size_t>(s) * thresholds + j) * pixels + p];
                 smoke[j] = d - (std::isfinite(o_a) ? std::clamp(0.5 * (o_a + d), 0.0, d) : 0.0);
             }
             return d;
@@ -1131,8 +1131,8 @@ FrameFactors expandFrame(const BakeDescription& description, const ResidentFrame
     f.svt.assign(r.svt.begin(), r.svt.end());
     const size_t thresholds = description.alpha_thresholds.size();
     const int samples = description.footprint_samples;
-    f.depth_density.resize(pixels * samples);
-    f.depth_sigmoid.resize(pixels * samples * thresholds);
+    f.depth_b.resize(pixels * samples);
+    f.depth_a.resize(pixels * samples * thresholds);
     const std::vector<float>& table = r.depth_table->depth;
     const int last = static_cast<int>(table.size()) - 1;
     auto depth = [&](int q) { return table[static_cast<size_t>(std::clamp(q, 0, last))]; };
@@ -1144,10 +1144,10 @@ FrameFactors expandFrame(const BakeDescription& description, const ResidentFrame
             const int16_t* v = detailed ? r.detailed_depth.data() + (next_detailed * samples + s) * r.depth_stride
                                         : r.mean_depth.data() + p * r.depth_stride;
             const float o_b = depth(v[0]);
-            f.depth_density[static_cast<size_t>(s) * pixels + p] = o_b;
+            f.depth_b[static_cast<size_t>(s) * pixels + p] = o_b;
             // O_a = 2 F - O_b = O_b - 2 S.
             for (size_t j = 0; j < thresholds; ++j)
-                f.depth_sigmoid[(static_cast<size_t>(s) * thresholds + j) * pixels + p] =
+                f.depth_a[(static_cast<size_t>(s) * thresholds + j) * pixels + p] =
                     o_b - 2.0f * depth(int(v[0]) - int(v[1 + j]));
         }
         if (detailed) ++next_detailed;

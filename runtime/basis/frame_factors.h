@@ -19,9 +19,9 @@ struct FrameFactors {
     // S V^T, column-major: the rank coefficients of basis column j are contiguous.
     std::vector<float> svt;
     // O_b(s, p) = integral of rho along ray s of pixel p: one image per footprint sample s.
-    std::vector<float> depth_density;
+    std::vector<float> depth_b;
     // O_a(s, T_c, p) = integral of rho f(T - T_c): per footprint sample, one image per alpha threshold.
-    std::vector<float> depth_sigmoid;
+    std::vector<float> depth_a;
 };
 
 // Decoded U in float, for CPU reconstruction (half -> float once per frame).

@@ -126,9 +126,9 @@ AlphaPlan alphaPlan(const BakeDescription& description, const FrameFactors& fact
     plan.pixels = static_cast<size_t>(factors.pixels);
     plan.ray_stride = description.alpha_thresholds.size() * plan.pixels;
     plan.samples = description.footprint_samples;
-    plan.density = factors.depth_density.data();
-    plan.lower = factors.depth_sigmoid.data() + static_cast<size_t>(lerp.lower) * plan.pixels;
-    plan.upper = w.two ? factors.depth_sigmoid.data() + static_cast<size_t>(lerp.upper) * plan.pixels : nullptr;
+    plan.density = factors.depth_b.data();
+    plan.lower = factors.depth_a.data() + static_cast<size_t>(lerp.lower) * plan.pixels;
+    plan.upper = w.two ? factors.depth_a.data() + static_cast<size_t>(lerp.upper) * plan.pixels : nullptr;
     plan.w_lower = w.w_lower;
     plan.w_upper = w.w_upper;
     plan.w_density = w.w_density;
@@ -176,7 +176,7 @@ void checkDepths(const BakeDescription& description, const FrameFactors& factors
     const size_t rays = static_cast<size_t>(std::max(description.footprint_samples, 0)) *
                         static_cast<size_t>(std::max(factors.pixels, 0));
     if (description.footprint_samples < 1 || description.alpha_thresholds.empty() ||
-        factors.depth_density.size() < rays || factors.depth_sigmoid.size() < rays * description.alpha_thresholds.size())
+        factors.depth_b.size() < rays || factors.depth_a.size() < rays * description.alpha_thresholds.size())
         throw std::invalid_argument("optical depth layers do not match the description");
 }
 

@@ -16,7 +16,7 @@
 #endif
 #define FIRELOOK_ALWAYS_INLINE inline __attribute__((always_inline))
 
-namespace firelook::simd {
+namespace firelook::basis::simd {
 
 typedef float v4f __attribute__((vector_size(16)));
 typedef float v8f __attribute__((vector_size(32)));
@@ -38,4 +38,4 @@ FIRELOOK_ALWAYS_INLINE void store(T* p, const V& v) {
     std::memcpy(p, &v, sizeof v);
 }
 
-}  // namespace firelook::simd
+}  // namespace firelook::basis::simd

@@ -62,7 +62,7 @@ struct FitResult {
     int evaluations = 0;                     // thetas evaluated
 };
 
-// frames[i] is the resident form of targets[i].frame (BasisPackage::loadResidentFrame). `progress`,
+// frames[i] is the resident form of targets[i].frame (BasisReader::loadResidentFrame). `progress`,
 // if given, is called with the fraction done at least every few milliseconds of work; an exception
 // it throws (an interrupt) propagates with nothing left behind. Throws std::invalid_argument for
 // targets that do not fit the package (size, counts, a non-finite value, a fixed value outside

@@ -14,7 +14,7 @@
 
 #include "common/error.h"
 
-namespace firelook::runtime {
+namespace firelook::world {
 
 class InvalidHandle : public Error {
   public:
@@ -140,4 +140,4 @@ class HandlePool {
     std::vector<uint32_t> free_;
 };
 
-}  // namespace firelook::runtime
+}  // namespace firelook::world

@@ -9,7 +9,7 @@
 #include <memory_resource>
 #include <new>
 
-namespace firelook::runtime {
+namespace firelook::world {
 
 struct MemoryHooks {
     // Both set or both null (null: malloc/free). alloc returns memory aligned
@@ -66,4 +66,4 @@ class HostMemoryResource final : public std::pmr::memory_resource {
     const MemoryHooks* hooks_;
 };
 
-}  // namespace firelook::runtime
+}  // namespace firelook::world

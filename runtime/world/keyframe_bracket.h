@@ -8,7 +8,7 @@
 #include <cstddef>
 #include <iterator>
 
-namespace firelook::runtime {
+namespace firelook::world {
 
 // The value at a frame is (1 - t) keys[lo] + t keys[hi].
 struct KeyframeBracket {
@@ -36,4 +36,4 @@ KeyframeBracket bracketKeyframes(const Keys& keys, double frame) {
     return {lo, hi, std::clamp((frame - f_lo) / (f_hi - f_lo), 0.0, 1.0)};
 }
 
-}  // namespace firelook::runtime
+}  // namespace firelook::world

@@ -9,7 +9,7 @@
 
 #include "basis/simd.h"
 
-namespace firelook::runtime {
+namespace firelook::world {
 namespace {
 
 // Every helper is inlined into both builds of flareKernel below. The full-resolution passes (bright
@@ -17,9 +17,9 @@ namespace {
 // extensions (the auto-vectoriser leaves loops with selects and divisions scalar); the bilinear
 // taps use 4-float RGB0 vectors, one load per tap; the rest are plain loops over planar rows.
 // Measured on the 2-core development machine: 512x512 in 1.7 ms (tests/world/bench_runtime).
-using simd::v4f;
-using simd::v8f;
-using simd::v8i;
+using basis::simd::v4f;
+using basis::simd::v8f;
+using basis::simd::v8i;
 
 FIRELOOK_ALWAYS_INLINE float finiteNonNegative(float v) {
     return v > 0.0f && v <= std::numeric_limits<float>::max() ? v : 0.0f;
@@ -477,4 +477,4 @@ void renderLensFlare(const float* rgba_in, int width, int height, const LensFlar
     flareKernel(rgba_in, width, height, s, scratch, flare_out);
 }
 
-}  // namespace firelook::runtime
+}  // namespace firelook::world

@@ -38,7 +38,7 @@
 
 #include <cstddef>
 
-namespace firelook::runtime {
+namespace firelook::world {
 
 struct LensFlareSettings {
     float threshold = 1.0f;       // luminance (linear radiance) above which light feeds the flare
@@ -70,4 +70,4 @@ inline size_t lensFlareScratchFloats(int width, int height) {
 void renderLensFlare(const float* rgba_in, int width, int height, const LensFlareSettings& settings, float* scratch,
                      float* flare_out);
 
-}  // namespace firelook::runtime
+}  // namespace firelook::world

@@ -5,7 +5,7 @@
 
 #include "look/emission_fit.h"
 
-namespace firelook::runtime {
+namespace firelook::world {
 
 ResolvedLook resolveLook(const Look& look, const basis::BakeDescription& d) {
     if (std::abs(look.albedo - d.albedo) > 1e-6)
@@ -76,4 +76,4 @@ Look sampledLook(std::span<const Keyframe> keys, double frame, const basis::Bake
     return look;
 }
 
-}  // namespace firelook::runtime
+}  // namespace firelook::world

@@ -23,7 +23,7 @@
 #include "look/look.h"
 #include "world/keyframe_bracket.h"
 
-namespace firelook::runtime {
+namespace firelook::world {
 
 struct ResolvedLook {
     Look source;  // the look as given (what an instance held at this key reports: World::look)
@@ -63,4 +63,4 @@ void sampleKeyframes(std::span<const Keyframe> keys, double frame, ExtinctionPar
 // shows even where a key needed the non-negative fit. Allocates.
 Look sampledLook(std::span<const Keyframe> keys, double frame, const basis::BakeDescription& description);
 
-}  // namespace firelook::runtime
+}  // namespace firelook::world

@@ -8,7 +8,7 @@
 #include "common/error.h"
 #include "look/look.h"
 
-namespace firelook::runtime {
+namespace firelook::world {
 namespace {
 
 // The basis layer reports bad content with plain std exceptions; everything it reads comes from the
@@ -28,7 +28,7 @@ auto corruptOnFailure(F&& read) {
 
 }  // namespace
 
-Package::Package(basis::BasisPackage package) : package_(std::move(package)), name_(package_.file().string()) {
+Package::Package(basis::BasisReader package) : package_(std::move(package)), name_(package_.file().string()) {
     std::vector<basis::FrameRecord> records = package_.description().frames;
     std::sort(records.begin(), records.end(),
               [](const basis::FrameRecord& a, const basis::FrameRecord& b) { return a.frame < b.frame; });
@@ -40,16 +40,16 @@ Package::Package(basis::BasisPackage package) : package_(std::move(package)), na
 }
 
 std::shared_ptr<const Package> Package::open(const std::filesystem::path& file) {
-    return checked(corruptOnFailure([&] { return basis::BasisPackage::open(file); }));
+    return checked(corruptOnFailure([&] { return basis::BasisReader::open(file); }));
 }
 
 std::shared_ptr<const Package> Package::openMemory(std::span<const std::byte> bytes,
-                                                   package::PackageReader::MemoryOwnership ownership,
+                                                   package::ContainerReader::MemoryOwnership ownership,
                                                    const std::string& name) {
-    return checked(corruptOnFailure([&] { return basis::BasisPackage::openMemory(bytes, ownership, name); }));
+    return checked(corruptOnFailure([&] { return basis::BasisReader::openMemory(bytes, ownership, name); }));
 }
 
-std::shared_ptr<const Package> Package::checked(basis::BasisPackage package) {
+std::shared_ptr<const Package> Package::checked(basis::BasisReader package) {
     std::shared_ptr<Package> p(new Package(std::move(package)));
     const basis::BakeDescription& d = p->description();
     const auto corrupt = [&](const std::string& problem) { throw Error(ErrorCode::Corrupt, p->name_ + ": " + problem); };
@@ -103,4 +103,4 @@ int Package::slotOf(int frame_number) const {
     return it != frame_numbers_.end() && *it == frame_number ? static_cast<int>(it - frame_numbers_.begin()) : -1;
 }
 
-}  // namespace firelook::runtime
+}  // namespace firelook::world

@@ -17,7 +17,7 @@
 #include "world/look_track.h"
 #include "world/package_camera.h"
 
-namespace firelook::runtime {
+namespace firelook::world {
 
 class Package {
   public:
@@ -31,11 +31,11 @@ class Package {
     // valid and unchanged while the Package lives (instances and worlds share it through
     // shared_ptr, and frames are read from it on demand). Copy takes its own aligned copy now.
     static std::shared_ptr<const Package> openMemory(std::span<const std::byte> bytes,
-                                                     package::PackageReader::MemoryOwnership ownership,
+                                                     package::ContainerReader::MemoryOwnership ownership,
                                                      const std::string& name);
 
     const basis::BakeDescription& description() const { return package_.description(); }
-    const basis::BasisPackage& basis() const { return package_; }
+    const basis::BasisReader& basis() const { return package_; }
     const std::filesystem::path& file() const { return package_.file(); }  // or openMemory's name
     const std::string& name() const { return name_; }  // the path (or memory name) as text, for messages
 
@@ -76,10 +76,10 @@ class Package {
     void loadResidentSlot(int slot, basis::ResidentFrame& out, basis::FrameReadBuffers& buffers) const;
 
   private:
-    explicit Package(basis::BasisPackage package);
+    explicit Package(basis::BasisReader package);
     // What open() and openMemory() share: the runtime's checks of the content.
-    static std::shared_ptr<const Package> checked(basis::BasisPackage package);
-    basis::BasisPackage package_;
+    static std::shared_ptr<const Package> checked(basis::BasisReader package);
+    basis::BasisReader package_;
     std::string name_;
     std::vector<int> frame_numbers_;
     std::vector<int> frame_ranks_;
@@ -90,4 +90,4 @@ class Package {
     std::vector<std::optional<basis::FireLightTable>> fire_lights_;  // by slot
 };
 
-}  // namespace firelook::runtime
+}  // namespace firelook::world

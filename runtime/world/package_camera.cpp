@@ -5,7 +5,7 @@
 
 #include "common/error.h"
 
-namespace firelook::runtime {
+namespace firelook::world {
 
 std::optional<PackageCamera> readPackageCamera(const std::string& metadata_json, const std::string& name) {
     const auto corrupt = [&](const std::string& problem) {
@@ -40,4 +40,4 @@ std::optional<PackageCamera> readPackageCamera(const std::string& metadata_json,
     return camera;
 }
 
-}  // namespace firelook::runtime
+}  // namespace firelook::world

@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-namespace firelook::runtime {
+namespace firelook::world {
 
 struct PackageCamera {
     // Column-major 4x4 (glTF order): world = world_from_camera * camera; the camera looks down its
@@ -21,4 +21,4 @@ struct PackageCamera {
 // a field of view outside (0, pi), or a size that is not positive.
 std::optional<PackageCamera> readPackageCamera(const std::string& metadata_json, const std::string& name);
 
-}  // namespace firelook::runtime
+}  // namespace firelook::world

@@ -6,7 +6,7 @@
 #include "basis/coefficients.h"
 #include "basis/recombine.h"
 
-namespace firelook::runtime {
+namespace firelook::world {
 namespace {
 
 // Frame range of an instance, clamped to the package's baked frames.
@@ -392,9 +392,9 @@ InstanceState World::state(InstanceHandle h) const {
     return s;
 }
 
-}  // namespace firelook::runtime
+}  // namespace firelook::world
 
-namespace firelook::runtime {
+namespace firelook::world {
 
 Look World::look(InstanceHandle h) const {
     const int i = denseIndex(h);
@@ -414,4 +414,4 @@ const basis::ResidentFrame* World::shownFrame(InstanceHandle h) const {
     return packages_[package_index_[i]].frames[frame_slot_[i]].frame.get();
 }
 
-}  // namespace firelook::runtime
+}  // namespace firelook::world

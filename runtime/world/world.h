@@ -61,7 +61,7 @@
 #include "world/look_track.h"
 #include "world/package.h"
 
-namespace firelook::runtime {
+namespace firelook::world {
 
 // From the world's HandlePool (handle_pool.h): 0 is never valid, a destroyed
 // instance's handle is detected (InvalidHandle).
@@ -212,4 +212,4 @@ class World {
     uint64_t prefetches_ = 0;
 };
 
-}  // namespace firelook::runtime
+}  // namespace firelook::world

@@ -92,7 +92,7 @@ BakeConfig derivedTinyConfig() {
 }
 
 std::vector<float> renderDefaultLook(const std::filesystem::path& file, int frame) {
-    const basis::BasisPackage package = basis::BasisPackage::open(file);
+    const basis::BasisReader package = basis::BasisReader::open(file);
     const basis::FrameFactors f = package.loadFrame(frame);
     std::vector<float> rgba(static_cast<size_t>(package.description().pixelCount()) * 4);
     basis::renderLookImage(package.description(), f, basis::decodeU(f),
@@ -137,8 +137,8 @@ TEST(AxisDerivation, KelvinTemperaturesGiveTheAffineImage) {
     ASSERT_FALSE(notices.empty());
     EXPECT_NE(notices[0].find("look axes from the data: temperatures x1000 +300"), std::string::npos) << notices[0];
 
-    const basis::BasisPackage pa = basis::BasisPackage::open(dir / "a.firelook");
-    const basis::BasisPackage pb = basis::BasisPackage::open(dir / "b.firelook");
+    const basis::BasisReader pa = basis::BasisReader::open(dir / "a.firelook");
+    const basis::BasisReader pb = basis::BasisReader::open(dir / "b.firelook");
     const basis::BakeDescription &da = pa.description(), &db = pb.description();
     ASSERT_EQ(da.axes.temperature_threshold.size(), db.axes.temperature_threshold.size());
     for (size_t i = 0; i < da.axes.temperature_threshold.size(); ++i)
@@ -179,8 +179,8 @@ TEST(AxisDerivation, DenserDataGetsProportionallySmallerExtinctions) {
     EXPECT_EQ(a.derivation.extinction_scale, 1.0);
     EXPECT_EQ(b.derivation.extinction_scale, 0.25);
     EXPECT_NEAR(b.derivation.density.depth, 4.0 * a.derivation.density.depth, 1e-6 * a.derivation.density.depth);
-    const basis::BasisPackage pa = basis::BasisPackage::open(dir / "a.firelook");
-    const basis::BasisPackage pb = basis::BasisPackage::open(dir / "b.firelook");
+    const basis::BasisReader pa = basis::BasisReader::open(dir / "a.firelook");
+    const basis::BasisReader pb = basis::BasisReader::open(dir / "b.firelook");
     const basis::BakeDescription &da = pa.description(), &db = pb.description();
     EXPECT_EQ(db.axes.smoke_extinction, (std::vector<double>{1.0}));
     EXPECT_EQ(db.axes.flame_extinction, (std::vector<double>{0.375}));

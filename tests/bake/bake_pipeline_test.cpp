@@ -34,7 +34,7 @@ TEST(BakePipeline, BakesAReadablePackage) {
     EXPECT_EQ(report.frames[0].frame, 1);
     EXPECT_GT(report.frames[0].rank, 0);
     EXPECT_EQ(report.package_bytes, std::filesystem::file_size(out));
-    const basis::BasisPackage package = basis::BasisPackage::open(out);
+    const basis::BasisReader package = basis::BasisReader::open(out);
     const basis::BakeDescription& d = package.description();
     EXPECT_EQ(d.width, 16);
     EXPECT_EQ(d.height, 16);
@@ -61,11 +61,11 @@ TEST(BakePipeline, SameSeedSameBytesOtherSeedOtherBasis) {
     EXPECT_TRUE(a == fileBytes(dir / "b.firelook")) << "same seed, different bytes";
     EXPECT_FALSE(a == fileBytes(dir / "c.firelook"));
     // Not only the recorded seed: the photons, hence S V^T, differ too.
-    const basis::FrameFactors fa = basis::BasisPackage::open(dir / "a.firelook").loadFrame(1);
-    const basis::FrameFactors fc = basis::BasisPackage::open(dir / "c.firelook").loadFrame(1);
+    const basis::FrameFactors fa = basis::BasisReader::open(dir / "a.firelook").loadFrame(1);
+    const basis::FrameFactors fc = basis::BasisReader::open(dir / "c.firelook").loadFrame(1);
     EXPECT_NE(fa.svt, fc.svt);
     // Camera rays are deterministic: the exact optical depths do not depend on the seed.
-    EXPECT_EQ(fa.depth_density, fc.depth_density);
+    EXPECT_EQ(fa.depth_b, fc.depth_b);
 }
 
 // Photon chunks are summed in a fixed order and camera rays write only their own pixel, so the
@@ -223,7 +223,7 @@ BakeConfig smokeOnlyConfig() {
     return c;
 }
 
-std::vector<float> renderFrame(const basis::BasisPackage& package, int frame, const Look& look) {
+std::vector<float> renderFrame(const basis::BasisReader& package, int frame, const Look& look) {
     const basis::FrameFactors f = package.loadFrame(frame);
     std::vector<float> rgba(static_cast<size_t>(package.description().pixelCount()) * 4);
     basis::renderLookImage(package.description(), f, basis::decodeU(f), look, rgba);
@@ -256,8 +256,8 @@ TEST(BakePipeline, AxisThatCannotChangeAFrameCollapses) {
     EXPECT_EQ(collapsed.frames.at(0).columns_traced, 2u * 17);
     EXPECT_EQ(full.frames.at(0).columns_traced, 24u * 17);
 
-    const basis::BasisPackage c = basis::BasisPackage::open(dir / "c.firelook");
-    const basis::BasisPackage f = basis::BasisPackage::open(dir / "f.firelook");
+    const basis::BasisReader c = basis::BasisReader::open(dir / "c.firelook");
+    const basis::BasisReader f = basis::BasisReader::open(dir / "f.firelook");
     EXPECT_EQ(c.description().axes.temperature_threshold, (std::vector<double>{1.0}));
     EXPECT_EQ(c.description().alpha_thresholds, (std::vector<double>{1.0}));
     EXPECT_EQ(f.description().axes.temperature_threshold.size(), 6u);
@@ -309,7 +309,7 @@ TEST(BakePipeline, TemperatureAcrossTheAxisKeepsTheFullAxis) {
     EXPECT_TRUE(report.axes.collapsed.empty());
     EXPECT_GT(report.axes.temperatures.t_max, 2.0);
     EXPECT_EQ(report.frames.at(0).columns_traced, 24u * 17);
-    EXPECT_EQ(basis::BasisPackage::open(dir / "a.firelook").description().axes.temperature_threshold.size(), 6u);
+    EXPECT_EQ(basis::BasisReader::open(dir / "a.firelook").description().axes.temperature_threshold.size(), 6u);
 }
 
 }  // namespace

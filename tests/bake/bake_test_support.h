@@ -76,11 +76,11 @@ inline std::vector<float> recombineAtPoint(const FrameBasis& b, const BasisModel
 inline double depthAlpha(const FrameBasis& b, int pixel, int a_index, const ExtinctionParams& theta) {
     const size_t pixels = static_cast<size_t>(b.width) * b.height;
     const size_t samples = static_cast<size_t>(b.footprint_samples);
-    const size_t thresholds = b.depth_sigmoid.size() / (samples * pixels);
+    const size_t thresholds = b.depth_a.size() / (samples * pixels);
     double sum = 0.0;
     for (size_t s = 0; s < samples; ++s) {
-        const double tau = theta.a() * b.depth_sigmoid[(s * thresholds + a_index) * pixels + pixel] +
-                           theta.b() * b.depth_density[s * pixels + pixel];
+        const double tau = theta.a() * b.depth_a[(s * thresholds + a_index) * pixels + pixel] +
+                           theta.b() * b.depth_b[s * pixels + pixel];
         sum += 1.0 - std::exp(-tau);
     }
     return sum / double(samples);

@@ -34,8 +34,8 @@ FrameBasis knownBasis(const std::vector<double>& s, int columns = 6) {
                 v += s[k] * dct(int(k), p, pixels) * dct(int(k), j, columns);
             b.matrix[static_cast<size_t>(p) * columns + j] = static_cast<float>(v);
         }
-    b.depth_density.assign(pixels, 0.5f);
-    b.depth_sigmoid.assign(pixels, -0.25f);
+    b.depth_b.assign(pixels, 0.5f);
+    b.depth_a.assign(pixels, -0.25f);
     return b;
 }
 
@@ -82,8 +82,8 @@ TEST(BasisCompression, FullRankReproducesTheMatrix) {
     ASSERT_EQ(c.factors.rank, 6);
     EXPECT_EQ(c.factors.u_half.size(), 48u * 6);
     EXPECT_EQ(c.factors.svt.size(), 6u * 6);
-    EXPECT_EQ(c.factors.depth_density, b.depth_density);
-    EXPECT_EQ(c.factors.depth_sigmoid, b.depth_sigmoid);
+    EXPECT_EQ(c.factors.depth_b, b.depth_b);
+    EXPECT_EQ(c.factors.depth_a, b.depth_a);
     const double error = reconstructionError(b, c);
     EXPECT_LT(error, kHalfPrecisionTolerance);
     // The reported half-precision error is what the reconstruction shows (float rounding apart).
@@ -140,7 +140,7 @@ TEST(BasisCompression, EmptyMatrixIsRankZero) {
     EXPECT_TRUE(c.factors.svt.empty());
     EXPECT_EQ(c.truncation_error, 0.0);
     EXPECT_EQ(c.quantisation_error, 0.0);
-    EXPECT_EQ(c.factors.depth_density, b.depth_density);
+    EXPECT_EQ(c.factors.depth_b, b.depth_b);
 }
 
 TEST(BasisCompression, SameInputSameFactors) {

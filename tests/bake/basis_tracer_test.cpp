@@ -75,7 +75,7 @@ TEST(BasisTracer, EmissionColumnMatchesClosedFormOnHomogeneousBox) {
             // Optical depth: the kinks only (the midpoint rule integrates the flat part exactly).
             // 1e-3 T allows a relative depth error of 1e-3 / tau = 5.5e-4; measured alpha error 4e-5.
             EXPECT_NEAR(alpha, 1.0 - transmittance, 1e-3 * transmittance) << "pixel " << px << "," << py;
-            EXPECT_NEAR(b.depth_density[pixel], box.rho * d, 1e-3 * box.rho * d);
+            EXPECT_NEAR(b.depth_b[pixel], box.rho * d, 1e-3 * box.rho * d);
         }
     std::printf(
         "[measured] analytic box: x = %.4f, x^2/24 = %.2e, worst emission error %.2e relative, "

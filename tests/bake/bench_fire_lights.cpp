@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
     const int samples = argc > 5 ? std::atoi(argv[5]) : 4096;
     const double box_scale = argc > 6 ? std::atof(argv[6]) : 1.5;
     try {
-        const basis::BasisPackage package = basis::BasisPackage::open(argv[1]);
+        const basis::BasisReader package = basis::BasisReader::open(argv[1]);
         const basis::BakeDescription& d = package.description();
         const std::optional<basis::FireLightTable> table = package.loadFireLights(frame);
         if (!table) throw std::runtime_error(std::string(argv[1]) + ": frame " + argv[3] + " has no fire lights");
@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
                 look.flame_extinction = pick(d.axes.flame_extinction);
             }
             for (Rgb& e : look.light_irradiance) e = Rgb(0.0f);  // the fire alone
-            const runtime::ResolvedLook resolved = runtime::resolveLook(look, d);
+            const world::ResolvedLook resolved = world::resolveLook(look, d);
             const basis::GridWeights weights = basis::interpolationWeights(d.axes, resolved.extinction);
             const LookModel model = makeLookModel(look, d.bins, d.rbf_width, d.light_directions);
             const render::VolumeScene scene(medium, model);
@@ -127,7 +127,7 @@ int main(int argc, char** argv) {
                         100 * *std::max_element(errors_direct[c].begin(), errors_direct[c].end()));
 
         // Cost of one evaluation of every stored light, grid weights included.
-        const runtime::ResolvedLook resolved = runtime::resolveLook(base, d);
+        const world::ResolvedLook resolved = world::resolveLook(base, d);
         std::vector<basis::FireLight> out(table->clusters);
         std::vector<double> us;
         double sink = 0.0;

@@ -214,8 +214,8 @@ TEST(FireLights, AreBakedIntoPackagesAndAbsentFromOlderOnes) {
     bakePackage(FIRELOOK_SAMPLE_DIR, path, config, "test");
     // Without --fire-lights a package holds none.
     bakePackage(FIRELOOK_SAMPLE_DIR, dir / "none.firelook", test::tinyConfig(), "test");
-    EXPECT_FALSE(basis::BasisPackage::open(dir / "none.firelook").loadFireLights(1));
-    const basis::BasisPackage baked = basis::BasisPackage::open(path);
+    EXPECT_FALSE(basis::BasisReader::open(dir / "none.firelook").loadFireLights(1));
+    const basis::BasisReader baked = basis::BasisReader::open(path);
     const std::optional<basis::FireLightTable> table = baked.loadFireLights(1);
     ASSERT_TRUE(table);
     EXPECT_EQ(table->points, baked.description().axes.pointCount());
@@ -223,20 +223,20 @@ TEST(FireLights, AreBakedIntoPackagesAndAbsentFromOlderOnes) {
     ASSERT_NE(section, nullptr);
     EXPECT_FALSE(section->required());
     EXPECT_EQ(baked.reader().version().minor, package::kFormatMinor);
-    const auto runtime_package = runtime::Package::open(path);
+    const auto runtime_package = world::Package::open(path);
     ASSERT_NE(runtime_package->fireLights(0), nullptr);
     EXPECT_GT(total(lights(*table, atPoint(0), std::vector<Rgb>(4, Rgb(1.0f)), 1)).x, 0.0);
 
     // The same package as a 1.0 writer made it, without the section: it loads and has no lights.
     const auto old = dir / "old.firelook";
     {
-        package::PackageWriter writer(old, package::WriterOptions{.zstd_level = 1, .format_minor = 0});
+        package::ContainerWriter writer(old, package::WriterOptions{.zstd_level = 1, .format_minor = 0});
         for (const package::SectionInfo& s : baked.reader().sections())
             if (s.type != basis::kSectionFireLights) writer.addStoredSection(s, baked.reader().stored(s));
         writer.commit();
     }
-    EXPECT_FALSE(basis::BasisPackage::open(old).loadFireLights(1));
-    EXPECT_EQ(runtime::Package::open(old)->fireLights(0), nullptr);
+    EXPECT_FALSE(basis::BasisReader::open(old).loadFireLights(1));
+    EXPECT_EQ(world::Package::open(old)->fireLights(0), nullptr);
 }
 
 TEST(FluenceProbe, MatchesTheInverseSquareLawOfAThinEmitter) {

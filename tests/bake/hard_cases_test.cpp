@@ -21,8 +21,8 @@ using namespace test;
 
 void expectFinite(const FrameBasis& b) {
     for (size_t i = 0; i < b.matrix.size(); ++i) ASSERT_TRUE(std::isfinite(b.matrix[i])) << "matrix " << i;
-    for (float v : b.depth_density) ASSERT_TRUE(std::isfinite(v));
-    for (float v : b.depth_sigmoid) ASSERT_TRUE(std::isfinite(v));
+    for (float v : b.depth_b) ASSERT_TRUE(std::isfinite(v));
+    for (float v : b.depth_a) ASSERT_TRUE(std::isfinite(v));
 }
 
 bool allZero(const std::vector<float>& v) {
@@ -66,8 +66,8 @@ TEST(BakeHardCases, EmptyFrameIsBlackAndTransparent) {
         const FrameBasis b = traceFrameBasis(*medium, headOnCamera(8, 60.0), m, fastTrace());
         EXPECT_EQ(b.columns, 2 * 2 * 5);
         EXPECT_TRUE(allZero(b.matrix));
-        EXPECT_TRUE(allZero(b.depth_density));
-        EXPECT_TRUE(allZero(b.depth_sigmoid));
+        EXPECT_TRUE(allZero(b.depth_b));
+        EXPECT_TRUE(allZero(b.depth_a));
         int rank = -1;
         const std::vector<float> rgba = compressAndRender(m, b, {0.45, 2.0, 0.5}, &rank);
         EXPECT_EQ(rank, 0);
@@ -172,8 +172,8 @@ TEST(BakeHardCases, CameraLookingAwaySeesNothing) {
         render::Camera::lookAt({0.0, 0.0, 3.0}, {0.0, 0.0, 10.0}, {0.0, 1.0, 0.0}, degrees(40.0), 8, 8);
     const FrameBasis b = traceFrameBasis(medium, away, m, fastTrace());
     EXPECT_TRUE(allZero(b.matrix));
-    EXPECT_TRUE(allZero(b.depth_density));
-    EXPECT_TRUE(allZero(b.depth_sigmoid));
+    EXPECT_TRUE(allZero(b.depth_b));
+    EXPECT_TRUE(allZero(b.depth_a));
     EXPECT_TRUE(allZero(compressAndRender(m, b, {0.3, 2.0, 0.5})));
 }
 

@@ -10,7 +10,7 @@
 
 #include "../support/temp_dir.h"
 #include "bake/bake_pipeline.h"
-#include "package/package_writer.h"
+#include "package/container_writer.h"
 #include "tiny_sample_bake.h"
 
 namespace firelook::bake {
@@ -96,7 +96,7 @@ TEST(PackageMerge, RefusesPartsBakedDifferently) {
 TEST(PackageMerge, RefusesAPackageNotWrittenByABake) {
     TempDir dir;
     const auto a = bakeFrames(dir, "a.firelook", "1");
-    package::PackageWriter writer(dir / "other.firelook");
+    package::ContainerWriter writer(dir / "other.firelook");
     writer.addMetadata(R"({"format": "firelook-basis", "version": 2})");
     writer.commit();
     const std::string error = mergeError({a, dir / "other.firelook"}, dir / "out.firelook");

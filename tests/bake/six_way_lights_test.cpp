@@ -52,7 +52,7 @@ TEST(SixWayLights, LeaveEveryOtherColumnBitForBit) {
     for (int p = 0; p < pixels; ++p)
         for (int c = 0; c < plain.columnsPerPoint(); ++c)
             ASSERT_EQ(test::basisValue(a, plain, p, 0, c), test::basisValue(b, six, p, 0, c)) << "pixel " << p << " column " << c;
-    EXPECT_EQ(a.depth_density, b.depth_density);
+    EXPECT_EQ(a.depth_b, b.depth_b);
     // Every six-way light lights the box (a column of zeros would mean a light that misses it).
     for (int l = 0; l < 6; ++l) {
         double sum = 0.0;
@@ -71,7 +71,7 @@ double relativeRmse(const std::vector<float>& image, const std::vector<float>& r
     return den > 0.0 ? std::sqrt(num / den) : 0.0;
 }
 
-std::vector<float> render(const basis::BasisPackage& package, int frame, const Look& look) {
+std::vector<float> render(const basis::BasisReader& package, int frame, const Look& look) {
     const basis::BakeDescription& d = package.description();
     std::vector<float> rgba(static_cast<size_t>(d.pixelCount()) * 4);
     basis::renderLookImage(d, package.loadResidentFrame(frame, std::pmr::get_default_resource()), look, rgba);
@@ -85,8 +85,8 @@ TEST(SixWayLights, PackageDefaultLookMatchesTheBakeWithoutThemAndEachLightRespon
     bakePackage(FIRELOOK_SAMPLE_DIR, dir / "plain.firelook", config, "test");
     config.scene.six_way_lights = true;
     bakePackage(FIRELOOK_SAMPLE_DIR, dir / "six.firelook", config, "test");
-    const basis::BasisPackage plain = basis::BasisPackage::open(dir / "plain.firelook");
-    const basis::BasisPackage six = basis::BasisPackage::open(dir / "six.firelook");
+    const basis::BasisReader plain = basis::BasisReader::open(dir / "plain.firelook");
+    const basis::BasisReader six = basis::BasisReader::open(dir / "six.firelook");
     const basis::BakeDescription& d = six.description();
     ASSERT_EQ(d.light_directions.size(), 7u);
     EXPECT_EQ(d.six_way_first_light, 1);

@@ -13,7 +13,7 @@
 #include "bake/bake_pipeline.h"
 #include "basis/basis_package.h"
 #include "basis/frame_factors.h"
-#include "package/package_writer.h"
+#include "package/container_writer.h"
 #include "tiny_sample_bake.h"
 
 namespace firelook::bake {
@@ -127,7 +127,7 @@ std::vector<double> basisOf(const basis::FrameFactors& f) {
 TEST(StorageTarget, StoredFrameMeetsALooserTargetAndNeverATighterOne) {
     TempDir dir;
     const BakeReport base = bakePackage(FIRELOOK_SAMPLE_DIR, dir / "p.firelook", twoFrames(), "test");
-    const basis::BasisPackage package = basis::BasisPackage::open(dir / "p.firelook");
+    const basis::BasisReader package = basis::BasisReader::open(dir / "p.firelook");
     const FrameBakeReport& fr = base.frames.at(0);
     const basis::FrameFactors original = package.loadFrame(fr.frame);
     const StoredFrameErrors stored = storedFrameErrors(original, fr.truncation_error, fr.quantisation_error);
@@ -146,7 +146,7 @@ TEST(StorageTarget, StoredFrameMeetsALooserTargetAndNeverATighterOne) {
         EXPECT_LE(chosen.compressed.factors.rank, original.rank);
         const auto file = dir / "r.firelook";
         {
-            package::PackageWriter writer(file);
+            package::ContainerWriter writer(file);
             const basis::StoredFrame written = basis::writeEncodedFrame(writer, fr.frame, chosen.encoded);
             basis::BakeDescription d = package.description();
             d.frames = {{fr.frame, chosen.compressed.factors.rank}};
@@ -157,7 +157,7 @@ TEST(StorageTarget, StoredFrameMeetsALooserTargetAndNeverATighterOne) {
                 EXPECT_LE(written.bytes(), share);
             }
         }
-        const std::vector<double> b1 = basisOf(basis::BasisPackage::open(file).loadFrame(fr.frame));
+        const std::vector<double> b1 = basisOf(basis::BasisReader::open(file).loadFrame(fr.frame));
         double diff = 0.0;
         for (size_t i = 0; i < b0.size(); ++i) diff += (b1[i] - b0[i]) * (b1[i] - b0[i]);
         if (t.basis_error > 0.0) {

@@ -44,14 +44,14 @@ inline FrameFactors factors(const BakeDescription& d, int rank, uint32_t seed) {
     const size_t rays = static_cast<size_t>(f.pixels) * d.footprint_samples;
     for (size_t r = 0; r < rays; ++r) {
         const float v = unit(rng);
-        f.depth_density.push_back(v < 0.2f ? 0.0f : v < 0.25f ? 1e6f : v < 0.26f ? NAN : 8.0f * v * v * v);
+        f.depth_b.push_back(v < 0.2f ? 0.0f : v < 0.25f ? 1e6f : v < 0.26f ? NAN : 8.0f * v * v * v);
     }
     for (int s = 0; s < d.footprint_samples; ++s)
         for (size_t j = 0; j < d.alpha_thresholds.size(); ++j)
             for (int p = 0; p < f.pixels; ++p) {
-                const float o_b = f.depth_density[static_cast<size_t>(s) * f.pixels + p];
+                const float o_b = f.depth_b[static_cast<size_t>(s) * f.pixels + p];
                 const float flame = (p % 3 == 0) ? 0.0f : o_b * (1.0f - 0.2f * float(j)) * unit(rng);
-                f.depth_sigmoid.push_back(2.0f * flame - o_b);  // O_a = 2 F - O_b
+                f.depth_a.push_back(2.0f * flame - o_b);  // O_a = 2 F - O_b
             }
     return f;
 }

@@ -71,8 +71,8 @@ TEST(FrameCodec, AlphaWithinTheBoundForAnyLook) {
                     // 1e-6: float rounding of the two alpha evaluations.
                     EXPECT_LE(worst, encoded.alpha_bound + 1e-6) << samples << " " << ks << " " << kf << " " << tc;
                 }
-        for (float v : decoded.depth_density) EXPECT_TRUE(std::isfinite(v));
-        for (float v : decoded.depth_sigmoid) EXPECT_TRUE(std::isfinite(v));
+        for (float v : decoded.depth_b) EXPECT_TRUE(std::isfinite(v));
+        for (float v : decoded.depth_a) EXPECT_TRUE(std::isfinite(v));
     }
 }
 

@@ -56,14 +56,14 @@ Case makeCase(int width, int height, int rank, int samples, uint64_t seed) {
     for (float& v : c.u) v = rng.uniform(-0.5f, 0.5f);
     c.z.resize(static_cast<size_t>(rank) * 3);
     for (float& v : c.z) v = rng.uniform(-1.0f, 1.5f);
-    c.f.depth_density.resize(pixels * samples);
-    c.f.depth_sigmoid.resize(pixels * samples * thresholds);
+    c.f.depth_b.resize(pixels * samples);
+    c.f.depth_a.resize(pixels * samples * thresholds);
     for (int s = 0; s < samples; ++s)
         for (size_t p = 0; p < pixels; ++p) {
             const float density = rng.uniform(0.0f, 4.0f);
-            c.f.depth_density[s * pixels + p] = density;
+            c.f.depth_b[s * pixels + p] = density;
             for (size_t t = 0; t < thresholds; ++t)  // in [-O_b, O_b], decreasing in T_c
-                c.f.depth_sigmoid[(s * thresholds + t) * pixels + p] =
+                c.f.depth_a[(s * thresholds + t) * pixels + p] =
                     density * (1.0f - 2.0f * (static_cast<float>(t) + rng.uniform(0.2f, 0.8f)) / thresholds);
         }
     const auto u_at = [&](size_t p, int k) -> float& { return c.u[p * rank + k]; };
@@ -73,15 +73,15 @@ Case makeCase(int width, int height, int rank, int samples, uint64_t seed) {
     u_at(3 % pixels, 0) = kInf;  // (written last: on tiny images these pixels coincide)
     u_at(5 % pixels, rank - 1) = -kInf;
     u_at(7 % pixels, rank / 2) = kNaN;
-    const auto depth = [&](size_t p, int s) -> float& { return c.f.depth_density[s * pixels + p]; };
+    const auto depth = [&](size_t p, int s) -> float& { return c.f.depth_b[s * pixels + p]; };
     depth(11 % pixels, 0) = kNaN;
     depth(13 % pixels, samples - 1) = kInf;
     depth(17 % pixels, 0) = -kInf;
     depth(19 % pixels, samples / 2) = 1e30f;
     depth(23 % pixels, 0) = -3.0f;
-    c.f.depth_sigmoid[(0 * thresholds + 2) * pixels + (29 % pixels)] = kNaN;
-    c.f.depth_sigmoid[((samples - 1) * thresholds + 1) * pixels + (31 % pixels)] = -kInf;
-    c.f.depth_sigmoid[(0 * thresholds + 3) * pixels + last] = 1e30f;
+    c.f.depth_a[(0 * thresholds + 2) * pixels + (29 % pixels)] = kNaN;
+    c.f.depth_a[((samples - 1) * thresholds + 1) * pixels + (31 % pixels)] = -kInf;
+    c.f.depth_a[(0 * thresholds + 3) * pixels + last] = 1e30f;
     return c;
 }
 
@@ -123,8 +123,8 @@ Reference reference(const Case& c, const ExtinctionParams& e) {
         }
         double alpha = 0.0;
         for (int s = 0; s < samples; ++s) {
-            const float* sigmoid = c.f.depth_sigmoid.data() + s * thresholds * pixels;
-            const double o_b = c.f.depth_density[s * pixels + p];
+            const float* sigmoid = c.f.depth_a.data() + s * thresholds * pixels;
+            const double o_b = c.f.depth_b[s * pixels + p];
             const double o_a = t == 0.0 ? sigmoid[lower * pixels + p]
                                         : (1.0 - t) * sigmoid[lower * pixels + p] + t * sigmoid[upper * pixels + p];
             const double tau = e.a() * o_a + e.b() * o_b;
@@ -238,15 +238,15 @@ TEST(RecombineKernel, AlphaAccuracyOverTheWholeRange) {
     c.d.alpha_thresholds = {1.0};
     c.f.pixels = pixels;
     c.f.rank = 0;
-    c.f.depth_density.resize(pixels);
-    c.f.depth_sigmoid.assign(pixels, 0.0f);
+    c.f.depth_b.resize(pixels);
+    c.f.depth_a.assign(pixels, 0.0f);
     const ExtinctionParams e{1.0, 1.0, 1.0};  // a = 0, b = 1: tau = O_b
-    for (int p = 0; p < pixels; ++p) c.f.depth_density[p] = 90.0f * static_cast<float>(p) / (pixels - 1);
+    for (int p = 0; p < pixels; ++p) c.f.depth_b[p] = 90.0f * static_cast<float>(p) / (pixels - 1);
     std::vector<float> rgba(static_cast<size_t>(pixels) * 4);
     reconstructImage(c.d, c.f, c.u, c.z, e, rgba);
     double worst = 0.0;
     for (int p = 0; p < pixels; ++p) {
-        const double tau = c.f.depth_density[p];
+        const double tau = c.f.depth_b[p];
         worst = std::max(worst, std::fabs(rgba[p * 4 + 3] - (1.0 - std::exp(-tau))));
     }
     EXPECT_EQ(rgba[3], 0.0f) << "tau = 0 is exactly clear";
@@ -261,10 +261,10 @@ TEST(RecombineKernel, DepthLayersAreChecked) {
     Case c = makeCase(8, 4, 8, 4, 3);
     std::vector<float> rgba(static_cast<size_t>(c.f.pixels) * 4);
     Case short_density = c;
-    short_density.f.depth_density.pop_back();
+    short_density.f.depth_b.pop_back();
     EXPECT_THROW(reconstructImage(short_density.d, short_density.f, c.u, c.z, kLooks[0], rgba), std::invalid_argument);
     Case short_sigmoid = c;
-    short_sigmoid.f.depth_sigmoid.pop_back();
+    short_sigmoid.f.depth_a.pop_back();
     EXPECT_THROW(reconstructImage(short_sigmoid.d, short_sigmoid.f, c.u, c.z, kLooks[0], rgba), std::invalid_argument);
     EXPECT_THROW(pixelAlpha(short_sigmoid.d, short_sigmoid.f, 0, kLooks[0]), std::invalid_argument);
     EXPECT_THROW(pixelAlpha(c.d, c.f, -1, kLooks[0]), std::invalid_argument);

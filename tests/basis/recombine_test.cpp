@@ -49,12 +49,12 @@ FrameFactors identityFactors(const BakeDescription& d) {
     for (int j = 0; j < f.columns; ++j)
         for (int k = 0; k < f.rank; ++k)
             f.svt[static_cast<size_t>(j) * f.rank + k] = static_cast<float>(svtValue(j, k));
-    f.depth_density.resize(f.pixels);
-    f.depth_sigmoid.resize(f.pixels * d.alpha_thresholds.size());
+    f.depth_b.resize(f.pixels);
+    f.depth_a.resize(f.pixels * d.alpha_thresholds.size());
     for (int p = 0; p < f.pixels; ++p) {
-        f.depth_density[p] = 0.1f * p;
+        f.depth_b[p] = 0.1f * p;
         for (size_t a = 0; a < d.alpha_thresholds.size(); ++a)
-            f.depth_sigmoid[a * f.pixels + p] = (static_cast<float>(a) - 1.0f) * 0.05f * p;
+            f.depth_a[a * f.pixels + p] = (static_cast<float>(a) - 1.0f) * 0.05f * p;
     }
     return f;
 }
@@ -165,9 +165,9 @@ TEST(Recombine, NegativeAndNonFiniteRadianceBecomesZero) {
     u[static_cast<size_t>(3) * f.rank + 3] = std::numeric_limits<float>::infinity();
     u[static_cast<size_t>(5) * f.rank + 5] = std::numeric_limits<float>::quiet_NaN();
     // S V^T is positive, so pixel 3 sums to +inf and pixel 5 to NaN.
-    f.depth_density[7] = std::numeric_limits<float>::quiet_NaN();
-    f.depth_density[8] = 1e30f;
-    f.depth_density[9] = std::numeric_limits<float>::infinity();
+    f.depth_b[7] = std::numeric_limits<float>::quiet_NaN();
+    f.depth_b[8] = 1e30f;
+    f.depth_b[9] = std::numeric_limits<float>::infinity();
     const ExtinctionParams theta{1.5, 1.0, 2.0};
     const std::vector<float> z = coefficients(d, f, theta, kCoefficients, kIrradiance);
     std::vector<float> rgba(static_cast<size_t>(f.pixels) * 4);
@@ -207,9 +207,9 @@ TEST(Recombine, PixelAlphaInterpolatesOpticalDepthInThreshold) {
         const std::vector<float> z = coefficients(d, f, theta, kCoefficients, kIrradiance);
         reconstructImage(d, f, decodeU(f), z, theta, rgba);
         for (int p = 0; p < f.pixels; ++p) {
-            const double o_a = (1.0 - t) * f.depth_sigmoid[lower * f.pixels + p] +
-                               t * f.depth_sigmoid[std::min(lower + 1, 2) * f.pixels + p];
-            const double o_b = f.depth_density[p];
+            const double o_a = (1.0 - t) * f.depth_a[lower * f.pixels + p] +
+                               t * f.depth_a[std::min(lower + 1, 2) * f.pixels + p];
+            const double o_b = f.depth_b[p];
             const double expected = 1.0 - std::exp(-(theta.a() * o_a + theta.b() * o_b));
             // Float depths and exp: a few float ulps.
             EXPECT_NEAR(pixelAlpha(d, f, p, theta), expected, 1e-6) << "pixel " << p << " T_c " << tc;
@@ -242,9 +242,9 @@ TEST(Recombine, AlphaIsTheMeanOverFootprintRays) {
     // Ray 0 keeps the depths above; ray 1 is clear (alpha 0) for even pixels and opaque for odd ones.
     const size_t pixels = static_cast<size_t>(f.pixels), thresholds = d.alpha_thresholds.size();
     for (size_t p = 0; p < pixels; ++p) {
-        f.depth_density.push_back(p % 2 == 0 ? 0.0f : 1e30f);
+        f.depth_b.push_back(p % 2 == 0 ? 0.0f : 1e30f);
     }
-    f.depth_sigmoid.resize(2 * thresholds * pixels, 0.0f);
+    f.depth_a.resize(2 * thresholds * pixels, 0.0f);
     const ExtinctionParams theta{1.25, 2.0, 0.5};
     BakeDescription single = description();
     FrameFactors first_ray = identityFactors(single);

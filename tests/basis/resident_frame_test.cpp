@@ -27,9 +27,9 @@ FrameFactors mixedFactors(const BakeDescription& d, int rank, uint32_t seed) {
     const size_t pixels = static_cast<size_t>(f.pixels), thresholds = d.alpha_thresholds.size();
     for (size_t p = 0; p < pixels; p += 2)
         for (int s = 1; s < d.footprint_samples; ++s) {
-            f.depth_density[s * pixels + p] = f.depth_density[p];
+            f.depth_b[s * pixels + p] = f.depth_b[p];
             for (size_t j = 0; j < thresholds; ++j)
-                f.depth_sigmoid[(s * thresholds + j) * pixels + p] = f.depth_sigmoid[j * pixels + p];
+                f.depth_a[(s * thresholds + j) * pixels + p] = f.depth_a[j * pixels + p];
         }
     return f;
 }
@@ -181,8 +181,8 @@ FrameFactors discFactors(const BakeDescription& d, int rank, uint32_t seed, doub
         if (std::hypot(x, y) <= radius) continue;
         for (int k = 0; k < rank; ++k) f.u_half[p * rank + k] = 0;
         for (int s = 0; s < d.footprint_samples; ++s) {
-            f.depth_density[s * pixels + p] = 0.0f;
-            for (size_t j = 0; j < thresholds; ++j) f.depth_sigmoid[(s * thresholds + j) * pixels + p] = 0.0f;
+            f.depth_b[s * pixels + p] = 0.0f;
+            for (size_t j = 0; j < thresholds; ++j) f.depth_a[(s * thresholds + j) * pixels + p] = 0.0f;
         }
     }
     return f;

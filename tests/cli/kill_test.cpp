@@ -1,6 +1,6 @@
 // A bake killed outright (SIGKILL, no handler runs) at 20 moments spread over its run never leaves a
 // partial package anywhere, and the previous output keeps its bytes (issue 13). What may be left is
-// the writer's temporary (".NAME.PID-N.tmp", package/package_writer.h): no reader accepts it, except
+// the writer's temporary (".NAME.PID-N.tmp", package/container_writer.h): no reader accepts it, except
 // when the kill lands between the writer's final fsync and its rename, when it is the complete
 // package under the temporary name (measured: 1 trial in 40 under load). The frames finished before
 // the kill stay in "NAME.partial/" as complete one-frame packages, for --resume (issue 15), which

@@ -49,7 +49,7 @@ double median(std::vector<double> v) {
 double worst(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
 
 int benchLooks(const std::string& path, int frame_number, int count, unsigned seed) {
-    const basis::BasisPackage package = basis::BasisPackage::open(path);
+    const basis::BasisReader package = basis::BasisReader::open(path);
     const basis::BakeDescription& d = package.description();
     const basis::ResidentFrame frame = package.loadResidentFrame(frame_number, std::pmr::get_default_resource());
     std::mt19937 rng(seed);
@@ -106,9 +106,9 @@ int benchLooks(const std::string& path, int frame_number, int count, unsigned se
 
 int benchBlackbody(const std::string& sequence_path, const std::string& package_path, int frame_number, int spp,
                    const std::string& out, double kelvin_per_unit, double kelvin_at_0) {
-    const basis::BasisPackage package = basis::BasisPackage::open(package_path);
+    const basis::BasisReader package = basis::BasisReader::open(package_path);
     const basis::BakeDescription& d = package.description();
-    const auto baked = runtime::readPackageCamera(package.metadataJson(), package_path);
+    const auto baked = world::readPackageCamera(package.metadataJson(), package_path);
     if (!baked) throw std::runtime_error(package_path + ": records no camera");
     render::CameraParameters cp;
     cp.world_from_camera = baked->world_from_camera;

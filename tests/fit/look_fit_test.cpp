@@ -19,7 +19,7 @@ namespace {
 constexpr double kSelfConsistency = 0.005;
 
 struct Fixture {
-    basis::BasisPackage package = basis::BasisPackage::open(test::fitTestPackage());
+    basis::BasisReader package = basis::BasisReader::open(test::fitTestPackage());
     const basis::BakeDescription& d = package.description();
     basis::ResidentFrame frame = package.loadResidentFrame(6, std::pmr::get_default_resource());
 

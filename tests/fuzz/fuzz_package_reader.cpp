@@ -1,13 +1,13 @@
-// Fuzz target: bytes -> a .firelook file -> PackageReader (every section read) -> BasisPackage
+// Fuzz target: bytes -> a .firelook file -> ContainerReader (every section read) -> BasisReader
 // (every frame loaded and rendered with the package's default look).
 //
 // Three ways an input is used, so that mutations get past the checksums:
 //   1. The bytes as they are (a real package, truncated or flipped: checksum and layout checks).
 //   2. If they start with the package identifier, the same bytes with every checksum recomputed
 //      (header, index, each section whose range lies in the file): exercises the index and zstd
-//      validation, and BasisPackage on corrupt but "valid" data.
+//      validation, and BasisReader on corrupt but "valid" data.
 //   3. Otherwise the bytes are "META JSON text, NUL, payload": a correct package is written with
-//      PackageWriter from that metadata, each frame's U / SVt / ODEP section filled from the payload
+//      ContainerWriter from that metadata, each frame's U / SVt / ODEP section filled from the payload
 //      to the size the description asks for (so frames load and render with arbitrary floats,
 //      NaN and Inf included). The payload's first byte picks the codec and whether sizes are exact.
 //
@@ -28,8 +28,8 @@
 #include "fuzz_support.h"
 #include "look/look.h"
 #include "package/error.h"
-#include "package/package_reader.h"
-#include "package/package_writer.h"
+#include "package/container_reader.h"
+#include "package/container_writer.h"
 
 namespace {
 
@@ -44,7 +44,7 @@ void checkNamesFile(const std::exception& e, const std::filesystem::path& file) 
 }
 
 // Loads every frame the description lists; renders the small ones with the package's default look.
-void loadAndRenderFrames(const basis::BasisPackage& package) {
+void loadAndRenderFrames(const basis::BasisReader& package) {
     const basis::BakeDescription& d = package.description();
     // Bounded work: the harness does not render a huge image or fit hundreds of bins.
     const bool render = !d.default_look_json.empty() && double(d.width) * d.height <= 4096.0 && d.bins.count <= 256;
@@ -87,7 +87,7 @@ void exercise(const std::filesystem::path& file) {
         try {
             package::ReaderOptions options;
             options.memory_map = map;
-            const package::PackageReader reader = package::PackageReader::open(file, options);
+            const package::ContainerReader reader = package::ContainerReader::open(file, options);
             for (const package::SectionInfo& section : reader.sections()) {
                 try {
                     if (section.raw_size > kMaxBytes) continue;
@@ -113,7 +113,7 @@ void exercise(const std::filesystem::path& file) {
         }
     }
     try {
-        const basis::BasisPackage package = basis::BasisPackage::open(file);
+        const basis::BasisReader package = basis::BasisReader::open(file);
         loadAndRenderFrames(package);
     } catch (const std::exception& e) {
         checkNamesFile(e, file);
@@ -154,7 +154,7 @@ void writeStructured(const std::filesystem::path& file, const std::uint8_t* data
     const package::Codec codec = (flags & 1) ? package::Codec::Raw : package::Codec::Zstd;
     const bool exact_sizes = (flags & 2) == 0;
 
-    package::PackageWriter writer(file, package::WriterOptions{1});
+    package::ContainerWriter writer(file, package::WriterOptions{1});
     writer.addMetadata(json);
     // Which frames and sizes the description asks for, if it parses at all.
     std::vector<std::pair<int, std::array<std::size_t, 3>>> frames;

@@ -13,7 +13,7 @@
 #include "../vdb/vdb_test_files.h"
 #include "basis/basis_package.h"
 #include "look/look.h"
-#include "package/package_writer.h"
+#include "package/container_writer.h"
 
 namespace {
 
@@ -59,15 +59,15 @@ basis::FrameFactors factors(const basis::BakeDescription& d, int frame, int rank
     f.rank = rank;
     for (int i = 0; i < f.pixels * rank; ++i) f.u_half.push_back(static_cast<uint16_t>(0x3000 + 37 * i % 0x0C00));  // 0.125..0.9
     for (int i = 0; i < f.columns * rank; ++i) f.svt.push_back(0.5f + 0.25f * float(i % 5) - 0.3f * float(i % 2));
-    for (int p = 0; p < f.pixels; ++p) f.depth_density.push_back(0.1f * float(p % 7));
+    for (int p = 0; p < f.pixels; ++p) f.depth_b.push_back(0.1f * float(p % 7));
     for (std::size_t a = 0; a < d.alpha_thresholds.size(); ++a)
-        for (int p = 0; p < f.pixels; ++p) f.depth_sigmoid.push_back(0.05f * float(p % 5) - 0.1f * float(a));
+        for (int p = 0; p < f.pixels; ++p) f.depth_a.push_back(0.05f * float(p % 5) - 0.1f * float(a));
     return f;
 }
 
 void writeBasisPackage(const fs::path& file, int frames, int rank, package::Codec codec) {
     const basis::BakeDescription d = description(frames, rank);
-    package::PackageWriter writer(file, package::WriterOptions{3});
+    package::ContainerWriter writer(file, package::WriterOptions{3});
     for (int frame = 1; frame <= frames; ++frame) {
         const basis::FrameFactors f = factors(d, frame, rank);
         if (codec == package::Codec::Zstd) {
@@ -89,7 +89,7 @@ void packageCorpus(const fs::path& dir) {
     writeBasisPackage(dir / "basis_rank0.firelook", 1, 0, package::Codec::Zstd);
     {
         // A container that is not a basis package: other metadata, an optional unknown section.
-        package::PackageWriter writer(dir / "container_other.firelook");
+        package::ContainerWriter writer(dir / "container_other.firelook");
         const std::string text = "opaque payload";
         writer.addSection(package::makeFourCC('X', 'T', 'R', 'A'), 7, std::as_bytes(std::span(text)),
                           package::Codec::Raw, false);

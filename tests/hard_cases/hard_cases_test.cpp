@@ -1,5 +1,5 @@
 // the hard cases of docs/testing.md across the whole pipeline: tiny VDB files written here with
-// OpenVDB -> firelook::bake::bakePackage -> BasisPackage::open / loadFrame -> renderLookImage.
+// OpenVDB -> firelook::bake::bakePackage -> BasisReader::open / loadFrame -> renderLookImage.
 // (tests/bake/hard_cases_test.cpp covers the same cases at the tracer level, without files.)
 //
 // Every rendered image is checked the same way: no NaN or Inf, radiance >= 0, alpha in [0, 1].
@@ -31,7 +31,7 @@
 #include "look/look.h"
 #include "look/look_model.h"
 #include "package/error.h"
-#include "package/package_writer.h"
+#include "package/container_writer.h"
 #include "render/camera.h"
 #include "vdb/vdb_error.h"
 
@@ -179,11 +179,11 @@ void expectSane(const Image& image, const std::string& what) {
 }
 
 // The package's default look, optionally changed, with the package's albedo.
-Look packageLook(const basis::BasisPackage& package) {
+Look packageLook(const basis::BasisReader& package) {
     return parseLook(package.description().default_look_json, package.file().string());
 }
 
-Image render(const basis::BasisPackage& package, int frame, const Look& look) {
+Image render(const basis::BasisReader& package, int frame, const Look& look) {
     const basis::FrameFactors factors = package.loadFrame(frame);
     Image image;
     image.rgba.assign(static_cast<std::size_t>(package.description().pixelCount()) * 4, -1.0f);
@@ -239,7 +239,7 @@ TEST(HardCases, EmptyVolumeInEveryFrame) {
     bake::BakeConfig config = tinyConfig();
     config.scene.camera = frontCamera();
     const Baked b = bakeInto(dir, seq, config);
-    const basis::BasisPackage package = basis::BasisPackage::open(b.file);
+    const basis::BasisReader package = basis::BasisReader::open(b.file);
     ASSERT_EQ(package.description().frames.size(), 2u);
     for (int f = 1; f <= 2; ++f) {
         const Image image = render(package, f, packageLook(package));
@@ -263,7 +263,7 @@ TEST(HardCases, AllVoxelsBelowOrAboveTheThreshold) {
         config.bins = 16;
         config.axes = {{1.0, 2.0}, {1.0, 4.0}, {0.5, 3.0}};
         const Baked b = bakeInto(dir, seq, config);
-        const basis::BasisPackage package = basis::BasisPackage::open(b.file);
+        const basis::BasisReader package = basis::BasisReader::open(b.file);
         Look look = packageLook(package);
         look.temperature_threshold = 1.5;
         look.smoke_extinction = 4.0;
@@ -292,7 +292,7 @@ TEST(HardCases, ZeroSmokeOrFlameExtinction) {
     bake::BakeConfig config = tinyConfig();
     config.axes = {{1.5}, {0.0, 2.0}, {0.0, 2.0}};
     const Baked b = bakeInto(dir, seq, config);
-    const basis::BasisPackage package = basis::BasisPackage::open(b.file);
+    const basis::BasisReader package = basis::BasisReader::open(b.file);
     for (const auto& [ks, kf] : {std::pair{0.0, 0.0}, std::pair{0.0, 2.0}, std::pair{2.0, 0.0}}) {
         Look look = packageLook(package);
         look.smoke_extinction = ks;
@@ -315,7 +315,7 @@ TEST(HardCases, VeryLargeExtinctionUnderflowsTransmittance) {
     bake::BakeConfig config = tinyConfig();
     config.axes = {{1.5}, {1e6}, {1e7}};
     const Baked b = bakeInto(dir, seq, config);
-    const basis::BasisPackage package = basis::BasisPackage::open(b.file);
+    const basis::BasisReader package = basis::BasisReader::open(b.file);
     const Image image = render(package, 1, packageLook(package));
     EXPECT_EQ(image.maxAlpha(), 1.0f) << "exp(-1e6) underflows to 0: fully opaque";
 }
@@ -329,7 +329,7 @@ TEST(HardCases, AlbedoZeroAndOne) {
         bake::BakeConfig config = tinyConfig();
         config.albedo = albedo;
         const Baked b = bakeInto(dir, seq, config);
-        const basis::BasisPackage package = basis::BasisPackage::open(b.file);
+        const basis::BasisReader package = basis::BasisReader::open(b.file);
         EXPECT_EQ(package.description().albedo, albedo);
         Look look = packageLook(package);
         EXPECT_EQ(look.albedo, albedo) << "the recorded default look carries the baked albedo";
@@ -351,7 +351,7 @@ TEST(HardCases, OneBinAndManyBins) {
         bake::BakeConfig config = tinyConfig();
         config.bins = bins;
         const Baked b = bakeInto(dir, seq, config);
-        const basis::BasisPackage package = basis::BasisPackage::open(b.file);
+        const basis::BasisReader package = basis::BasisReader::open(b.file);
         EXPECT_EQ(package.description().bins.count, bins);
         const Image image = render(package, 1, packageLook(package));
         EXPECT_GT(image.maxRadiance(), 0.0f) << bins << " bins";
@@ -384,7 +384,7 @@ TEST(HardCases, TinyAndHugeTemperatureUnits) {
         config.t_hi.reset();
         config.axes = {{1.0 * unit, 2.0 * unit}, {4.0}, {1.5}};
         const Baked b = bakeInto(dir, seq, config);
-        const basis::BasisPackage package = basis::BasisPackage::open(b.file);
+        const basis::BasisReader package = basis::BasisReader::open(b.file);
         EXPECT_NEAR(package.description().bins.t_hi, 3.0 * unit, 1e-6 * unit);
         Look look = packageLook(package);
         look.temperature_threshold = 1.4 * unit;
@@ -422,7 +422,7 @@ TEST(HardCases, EmissivityWithASharpStep) {
     bake::BakeConfig config = tinyConfig();
     config.bins = 16;
     const Baked b = bakeInto(dir, seq, config);
-    const basis::BasisPackage package = basis::BasisPackage::open(b.file);
+    const basis::BasisReader package = basis::BasisReader::open(b.file);
     Look look = packageLook(package);
     look.emission = EmissionStops{{{1.5, Rgb(0.0f)}, {1.5, Rgb(50.0f, 20.0f, 5.0f)}}};
     const Image image = render(package, 1, look);
@@ -445,7 +445,7 @@ TEST(HardCases, NonFiniteAndNegativeValuesAreCleanedAndCounted) {
     temperature[31].second = kInf;
     writeFrame(seq, 1, density, temperature);
     const Baked b = bakeInto(dir, seq, tinyConfig());
-    const basis::BasisPackage package = basis::BasisPackage::open(b.file);
+    const basis::BasisReader package = basis::BasisReader::open(b.file);
     const nlohmann::json meta = nlohmann::json::parse(package.metadataJson());
     const nlohmann::json& source = meta.at("provenance").at("sources").at(0);
     EXPECT_EQ(source.at("cleaned_non_finite").get<int>(), 5) << source.dump();
@@ -488,7 +488,7 @@ TEST(HardCases, FramesOfDifferentSizes) {
     writeFrame(seq, 2, constant(6, 1.0f), ramp(6), 0.1);                              // 216 voxels
     writeFrame(seq, 3, block(10, [](int, int, int) { return 0.5f; }, openvdb::Coord(-4)), ramp(10), 0.05);  // 1000, finer
     const Baked b = bakeInto(dir, seq, tinyConfig());
-    const basis::BasisPackage package = basis::BasisPackage::open(b.file);
+    const basis::BasisReader package = basis::BasisReader::open(b.file);
     ASSERT_EQ(package.description().frames.size(), 3u);
     for (int f = 1; f <= 3; ++f) {
         const Image image = render(package, f, packageLook(package));
@@ -524,7 +524,7 @@ class DamagedPackage : public ::testing::Test {
     // Opens, loads and renders every frame; returns the first error's message ("" if none).
     static std::string openAndRenderAll(const fs::path& file) {
         try {
-            const basis::BasisPackage package = basis::BasisPackage::open(file);
+            const basis::BasisReader package = basis::BasisReader::open(file);
             for (const basis::FrameRecord& r : package.description().frames) render(package, r.frame, packageLook(package));
         } catch (const std::exception& e) {
             return e.what();
@@ -548,7 +548,7 @@ TEST_F(DamagedPackage, TruncatedAnywhereFailsNamingTheFile) {
                                    bytes_.size() - 64, bytes_.size() - 1}) {
         const fs::path file = writeCopy(dir, "cut.firelook", bytes_.substr(0, keep));
         try {
-            basis::BasisPackage::open(file);
+            basis::BasisReader::open(file);
             ADD_FAILURE() << "a package cut to " << keep << " bytes opened";
         } catch (const package::PackageError& e) {
             EXPECT_NE(std::string(e.what()).find("cut.firelook"), std::string::npos) << e.what();
@@ -626,7 +626,7 @@ TEST_F(DamagedPackage, NewerVersionsAreRefusedOrReadAsDocumented) {
     newer[offsetof(package::FileHeader, version_major)] = 2;
     const fs::path major = writeCopy(dir, "major2.firelook", newer);
     try {
-        basis::BasisPackage::open(major);
+        basis::BasisReader::open(major);
         ADD_FAILURE() << "major version 2 opened";
     } catch (const package::PackageError& e) {
         EXPECT_EQ(e.code(), package::ErrorCode::NewerMajorVersion) << e.what();
@@ -634,11 +634,11 @@ TEST_F(DamagedPackage, NewerVersionsAreRefusedOrReadAsDocumented) {
     }
     // Newer minor version with a section this reader does not know: skipped when optional, refused
     // (naming the file) when required.
-    const basis::BasisPackage good = basis::BasisPackage::open(good_);
+    const basis::BasisReader good = basis::BasisReader::open(good_);
     for (const bool required : {false, true}) {
         const fs::path file = dir / (required ? "minor_required.firelook" : "minor_optional.firelook");
         {
-            package::PackageWriter writer(file, package::WriterOptions{3, package::kFormatMinor + 1});
+            package::ContainerWriter writer(file, package::WriterOptions{3, package::kFormatMinor + 1});
             for (const basis::FrameRecord& r : good.description().frames)
                 basis::writeFrameFactors(writer, good.description(), good.loadFrame(r.frame));
             const std::string extra = "from the future";
@@ -669,17 +669,17 @@ TEST_F(DamagedPackage, InterruptedBakeLeavesNothingAndItsTemporaryFileIsRefused)
         EXPECT_TRUE(entries(dir.path()).empty()) << "cancel at " << cancel_at << " left " << entries(dir.path())[0];
     }
     // A process killed outright leaves the writer's temporary file: it is not a package.
-    const basis::BasisPackage good = basis::BasisPackage::open(good_);
+    const basis::BasisReader good = basis::BasisReader::open(good_);
     fs::path leftover = dir / "killed.firelook.tmp";
     {
-        package::PackageWriter writer(dir / "killed.firelook");
+        package::ContainerWriter writer(dir / "killed.firelook");
         basis::writeFrameFactors(writer, good.description(), good.loadFrame(1));
         fs::copy_file(writer.temporaryPath(), leftover);
     }  // destroyed without commit: as if the bake died here
     EXPECT_FALSE(fs::exists(dir / "killed.firelook"));
     const std::string error = openAndRenderAll(leftover);
     EXPECT_NE(error.find("killed.firelook.tmp"), std::string::npos) << error;
-    expectErrorNaming<package::PackageError>([&] { basis::BasisPackage::open(dir / "killed.firelook"); },
+    expectErrorNaming<package::PackageError>([&] { basis::BasisReader::open(dir / "killed.firelook"); },
                                              {"killed.firelook"});
 }
 
@@ -708,7 +708,7 @@ TEST(HardCases, CameraInsideTheVolume) {
     bake::BakeConfig config = tinyConfig();
     config.scene.camera = std::array<double, 7>{0.45, 0.45, 0.45, 0.45, 0.45, 0.0, 70.0};
     const Baked b = bakeInto(dir, seq, config);
-    const basis::BasisPackage package = basis::BasisPackage::open(b.file);
+    const basis::BasisReader package = basis::BasisReader::open(b.file);
     const Image image = render(package, 1, packageLook(package));
     EXPECT_GT(image.minAlpha(), 0.0f) << "every ray starts inside the density";
     EXPECT_LT(image.maxAlpha(), 1.0f);
@@ -750,7 +750,7 @@ TEST(HardCases, CameraLookingAway) {
     bake::BakeConfig config = tinyConfig();
     config.scene.camera = std::array<double, 7>{0.25, 0.25, 2.0, 0.25, 0.25, 5.0, 40.0};
     const Baked b = bakeInto(dir, seq, config);
-    const basis::BasisPackage package = basis::BasisPackage::open(b.file);
+    const basis::BasisReader package = basis::BasisReader::open(b.file);
     const Image image = render(package, 1, packageLook(package));
     EXPECT_EQ(image.maxAlpha(), 0.0f);
     EXPECT_EQ(image.maxRadiance(), 0.0f);

@@ -13,8 +13,8 @@
 #include <filesystem>
 #include <random>
 
-#include "package/package_reader.h"
-#include "package/package_writer.h"
+#include "package/container_reader.h"
+#include "package/container_writer.h"
 
 namespace firelook::package {
 namespace {
@@ -45,8 +45,8 @@ class BenchPackages {
         folder_ =
             std::filesystem::temp_directory_path() / ("firelook-bench-package-" + std::to_string(::getpid()));
         std::filesystem::create_directories(folder_);
-        PackageWriter raw(rawPath(), WriterOptions{.zstd_level = 3, .format_minor = kFormatMinor});
-        PackageWriter zstd(zstdPath(), WriterOptions{.zstd_level = 3, .format_minor = kFormatMinor});
+        ContainerWriter raw(rawPath(), WriterOptions{.zstd_level = 3, .format_minor = kFormatMinor});
+        ContainerWriter zstd(zstdPath(), WriterOptions{.zstd_level = 3, .format_minor = kFormatMinor});
         for (uint32_t frame = 0; frame < kSectionCount; ++frame) {
             const std::vector<float> values = imageFactor(frame);
             const auto bytes = std::as_bytes(std::span(values));
@@ -83,7 +83,7 @@ void reportRate(benchmark::State& state, const std::filesystem::path& file) {
 void BM_RawMappedViewWithChecksum(benchmark::State& state) {
     const auto& file = packages().rawPath();
     for (auto _ : state) {
-        const PackageReader reader = PackageReader::open(file);
+        const ContainerReader reader = ContainerReader::open(file);
         for (const SectionInfo& section : reader.sections())
             benchmark::DoNotOptimize(reader.mapped(section).data());
     }
@@ -95,7 +95,7 @@ BENCHMARK(BM_RawMappedViewWithChecksum)->Unit(benchmark::kMillisecond)->UseRealT
 void BM_ZstdRead(benchmark::State& state) {
     const auto& file = packages().zstdPath();
     for (auto _ : state) {
-        const PackageReader reader = PackageReader::open(file);
+        const ContainerReader reader = ContainerReader::open(file);
         for (const SectionInfo& section : reader.sections())
             benchmark::DoNotOptimize(reader.read(section).data());
     }
@@ -107,7 +107,7 @@ BENCHMARK(BM_ZstdRead)->Unit(benchmark::kMillisecond)->UseRealTime();
 void BM_RawReadCopy(benchmark::State& state) {
     const auto& file = packages().rawPath();
     for (auto _ : state) {
-        const PackageReader reader = PackageReader::open(file);
+        const ContainerReader reader = ContainerReader::open(file);
         for (const SectionInfo& section : reader.sections())
             benchmark::DoNotOptimize(reader.read(section).data());
     }

@@ -7,8 +7,8 @@
 #include <cstring>
 #include <random>
 
-#include "package/package_reader.h"
-#include "package/package_writer.h"
+#include "package/container_reader.h"
+#include "package/container_writer.h"
 #include "package_test_support.h"
 
 namespace firelook::package {
@@ -25,7 +25,7 @@ class CorruptPackage : public ::testing::Test {
   protected:
     void SetUp() override {
         {
-            PackageWriter writer(dir_ / "good.firelook");
+            ContainerWriter writer(dir_ / "good.firelook");
             writer.addMetadata(R"({"tool":"corruption test"})");
             writer.addSection(kFactors, 0, asBytes(test::smoothFloats(100, 1)), Codec::Raw);
             writer.addSection(kFactors, 1, asBytes(test::smoothFloats(100, 2)), Codec::Zstd);
@@ -50,7 +50,7 @@ class CorruptPackage : public ::testing::Test {
             const auto path = craft(bytes, memory_map);
             expectPackageError(
                 [&] {
-                    PackageReader::open(path,
+                    ContainerReader::open(path,
                                         ReaderOptions{.memory_map = memory_map, .understood_types = {}});
                 },
                 code, path);
@@ -58,14 +58,14 @@ class CorruptPackage : public ::testing::Test {
         // The same bytes held in memory go through exactly the same checks (memory_source_test.cpp).
         const std::filesystem::path name = "archive.pak:crafted.firelook";
         const test::AlignedBytes held(bytes);
-        for (const auto ownership : {PackageReader::MemoryOwnership::Borrow, PackageReader::MemoryOwnership::Copy})
-            expectPackageError([&] { PackageReader::openMemory(held.view(), ownership, name); }, code, name);
+        for (const auto ownership : {ContainerReader::MemoryOwnership::Borrow, ContainerReader::MemoryOwnership::Copy})
+            expectPackageError([&] { ContainerReader::openMemory(held.view(), ownership, name); }, code, name);
     }
 
     // Opens the crafted file and reads every section; returns the frames whose read failed as Corrupt.
     std::vector<uint32_t> corruptSections(const std::vector<std::byte>& bytes) {
         const auto path = craft(bytes);
-        const PackageReader reader = PackageReader::open(path);
+        const ContainerReader reader = ContainerReader::open(path);
         std::vector<uint32_t> failed;
         for (const SectionInfo& section : reader.sections()) {
             try {
@@ -89,7 +89,7 @@ TEST_F(CorruptPackage, TruncatedAtEveryLengthIsTruncated) {
     // at every section boundary and padding, and inside the index.
     for (std::size_t length = 1; length < good_.size(); ++length) {
         const auto path = craft(std::span(good_).first(length));
-        expectPackageError([&] { PackageReader::open(path); }, ErrorCode::Truncated, path);
+        expectPackageError([&] { ContainerReader::open(path); }, ErrorCode::Truncated, path);
         if (::testing::Test::HasFailure()) {
             ADD_FAILURE() << "first failing length " << length;
             return;
@@ -130,7 +130,7 @@ TEST_F(CorruptPackage, FlippedIndexByteIsCorrupt) {
         std::vector<std::byte> bytes = good_;
         bytes[offset] ^= std::byte{0x01};
         const auto path = craft(bytes);
-        expectPackageError([&] { PackageReader::open(path); }, ErrorCode::Corrupt, path);
+        expectPackageError([&] { ContainerReader::open(path); }, ErrorCode::Corrupt, path);
     }
 }
 
@@ -187,13 +187,13 @@ TEST_F(CorruptPackage, NewerMinorWithUnknownOptionalSectionIsReadable) {
     const auto path = dir_ / "newer-minor.firelook";
     const std::vector<float> factors = test::smoothFloats(64, 3);
     {
-        PackageWriter writer(path, WriterOptions{.zstd_level = 10, .format_minor = 7});
+        ContainerWriter writer(path, WriterOptions{.zstd_level = 10, .format_minor = 7});
         writer.addSection(kFactors, 0, asBytes(factors), Codec::Raw);
         writer.addSection(kNewFeature, kNoFrame, asBytes(factors), Codec::Zstd, false);
         writer.commit();
     }
-    const PackageReader reader =
-        PackageReader::open(path, ReaderOptions{.memory_map = true, .understood_types = {kFactors}});
+    const ContainerReader reader =
+        ContainerReader::open(path, ReaderOptions{.memory_map = true, .understood_types = {kFactors}});
     EXPECT_EQ(reader.version(), (FormatVersion{1, 7}));
     ASSERT_EQ(reader.sections().size(), 1u);
     EXPECT_EQ(reader.skippedSectionCount(), 1u);
@@ -201,19 +201,19 @@ TEST_F(CorruptPackage, NewerMinorWithUnknownOptionalSectionIsReadable) {
     EXPECT_EQ(reader.read(*reader.find(kFactors, 0)).size(), factors.size() * sizeof(float));
 
     // An inspection tool that names no types sees everything.
-    EXPECT_EQ(PackageReader::open(path).sections().size(), 2u);
+    EXPECT_EQ(ContainerReader::open(path).sections().size(), 2u);
 }
 
 TEST_F(CorruptPackage, UnknownRequiredSectionIsUnsupported) {
     const auto path = dir_ / "unknown-required.firelook";
     {
-        PackageWriter writer(path, WriterOptions{.zstd_level = 10, .format_minor = 7});
+        ContainerWriter writer(path, WriterOptions{.zstd_level = 10, .format_minor = 7});
         writer.addSection(kFactors, 0, {}, Codec::Raw);
         writer.addSection(kNewFeature, 3, {}, Codec::Raw, true);
         writer.commit();
     }
     expectPackageError(
-        [&] { PackageReader::open(path, ReaderOptions{.memory_map = true, .understood_types = {kFactors}}); },
+        [&] { ContainerReader::open(path, ReaderOptions{.memory_map = true, .understood_types = {kFactors}}); },
         ErrorCode::UnsupportedFeature, path);
 }
 
@@ -228,7 +228,7 @@ TEST_F(CorruptPackage, UnknownCodecIsUnsupportedWhenRequiredAndSkippedWhenOption
     entry.flags = 0;
     test::setIndexEntry(bytes, 2, entry);
     test::reseal(bytes);
-    const PackageReader reader = PackageReader::open(craft(bytes));
+    const ContainerReader reader = ContainerReader::open(craft(bytes));
     EXPECT_EQ(reader.skippedSectionCount(), 1u);
     EXPECT_EQ(reader.find(kFactors, 1), nullptr);
     EXPECT_NE(reader.find(kFactors, 0), nullptr);
@@ -322,8 +322,8 @@ TEST_F(CorruptPackage, FilesThatAreNotPackages) {
 
 TEST_F(CorruptPackage, MissingFileAndFolderAreIoErrors) {
     const auto missing = dir_ / "missing.firelook";
-    expectPackageError([&] { PackageReader::open(missing); }, ErrorCode::IoError, missing);
-    expectPackageError([&] { PackageReader::open(dir_.path()); }, ErrorCode::IoError, dir_.path());
+    expectPackageError([&] { ContainerReader::open(missing); }, ErrorCode::IoError, missing);
+    expectPackageError([&] { ContainerReader::open(dir_.path()); }, ErrorCode::IoError, dir_.path());
 }
 
 }  // namespace

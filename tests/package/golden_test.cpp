@@ -10,8 +10,8 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "package/package_reader.h"
-#include "package/package_writer.h"
+#include "package/container_reader.h"
+#include "package/container_writer.h"
 #include "package_test_support.h"
 
 namespace firelook::package {
@@ -34,7 +34,7 @@ std::vector<float> zstdFactors() {
 
 // The golden files are examples of version 1.0 (docs/package-format.md), whatever minor this build writes.
 void writeTinyRaw(const std::filesystem::path& path) {
-    PackageWriter writer(path, WriterOptions{.zstd_level = 10, .format_minor = 0});
+    ContainerWriter writer(path, WriterOptions{.zstd_level = 10, .format_minor = 0});
     writer.addSection(kMetadataType, kNoFrame, std::as_bytes(std::span(kRawMetadata)), Codec::Raw);
     writer.addSection(kFactors, 1, asBytes(kRawFactors), Codec::Raw);
     writer.addSection(kOptional, 2, {}, Codec::Raw, false);
@@ -42,7 +42,7 @@ void writeTinyRaw(const std::filesystem::path& path) {
 }
 
 void writeTinyZstd(const std::filesystem::path& path) {
-    PackageWriter writer(path, WriterOptions{.zstd_level = 19, .format_minor = 0});
+    ContainerWriter writer(path, WriterOptions{.zstd_level = 19, .format_minor = 0});
     writer.addMetadata(kZstdMetadata);
     writer.addSection(kFactors, 0, asBytes(zstdFactors()), Codec::Zstd);
     writer.commit();
@@ -113,7 +113,7 @@ TEST_F(PackageGolden, HeaderAndIndexHoldTheDocumentedValues) {
 }
 
 TEST_F(PackageGolden, ReaderDecodesTheRawGolden) {
-    const PackageReader reader = PackageReader::open(kGoldenDir / "tiny_raw.firelook");
+    const ContainerReader reader = ContainerReader::open(kGoldenDir / "tiny_raw.firelook");
     EXPECT_EQ(reader.version(), (FormatVersion{1, 0}));
     EXPECT_EQ(reader.metadata(), std::string(kRawMetadata));
     const std::span<const std::byte> factors = reader.mapped(*reader.find(kFactors, 1));
@@ -126,7 +126,7 @@ TEST_F(PackageGolden, ReaderDecodesTheRawGolden) {
 }
 
 TEST_F(PackageGolden, ReaderDecodesTheZstdGolden) {
-    const PackageReader reader = PackageReader::open(kGoldenDir / "tiny_zstd.firelook");
+    const ContainerReader reader = ContainerReader::open(kGoldenDir / "tiny_zstd.firelook");
     EXPECT_EQ(reader.metadata(), std::string(kZstdMetadata));
     const SectionInfo* section = reader.find(kFactors, 0);
     ASSERT_NE(section, nullptr);

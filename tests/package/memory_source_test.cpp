@@ -1,4 +1,4 @@
-// A package held in memory (PackageReader::openMemory): the same sections and bytes as from the
+// A package held in memory (ContainerReader::openMemory): the same sections and bytes as from the
 // file, borrowed in place or copied, and exactly the same errors as the file path for every
 // truncation and every flipped byte. A borrowed buffer that is not 64-byte aligned is refused.
 
@@ -9,15 +9,15 @@
 #include <set>
 #include <string>
 
-#include "package/package_reader.h"
-#include "package/package_writer.h"
+#include "package/container_reader.h"
+#include "package/container_writer.h"
 #include "package_test_support.h"
 
 namespace firelook::package {
 namespace {
 
 using test::asBytes;
-using Ownership = PackageReader::MemoryOwnership;
+using Ownership = ContainerReader::MemoryOwnership;
 
 constexpr uint32_t kFactors = makeFourCC('F', 'A', 'C', 'T');
 const std::filesystem::path kName = "engine.pak:fire/explosion.firelook";
@@ -26,7 +26,7 @@ class MemorySource : public ::testing::Test {
   protected:
     void SetUp() override {
         path_ = dir_ / "good.firelook";
-        PackageWriter writer(path_);
+        ContainerWriter writer(path_);
         writer.addMetadata(R"({"tool":"memory source test"})");
         writer.addSection(kFactors, 0, asBytes(test::smoothFloats(100, 1)), Codec::Raw);
         writer.addSection(kFactors, 1, asBytes(test::smoothFloats(100, 2)), Codec::Zstd);
@@ -37,7 +37,7 @@ class MemorySource : public ::testing::Test {
 
     // What opening and reading every section gives, as text: "ok" per section, or the error code;
     // the message must name `source` (so a memory source and a file differ only in the name).
-    static std::string outcome(const std::function<PackageReader()>& open, const std::filesystem::path& source) {
+    static std::string outcome(const std::function<ContainerReader()>& open, const std::filesystem::path& source) {
         const auto failure = [&](const PackageError& e) {
             EXPECT_EQ(e.file(), source);
             EXPECT_NE(std::string(e.what()).find(source.string()), std::string::npos) << e.what();
@@ -45,7 +45,7 @@ class MemorySource : public ::testing::Test {
         };
         std::string result;
         try {
-            const PackageReader reader = open();
+            const ContainerReader reader = open();
             result = "open ok";
             for (const SectionInfo& section : reader.sections()) {
                 try {
@@ -67,10 +67,10 @@ class MemorySource : public ::testing::Test {
         SCOPED_TRACE(context);
         const auto file = dir_ / "crafted.firelook";
         test::writeFile(file, bytes);
-        const std::string want = outcome([&] { return PackageReader::open(file); }, file);
+        const std::string want = outcome([&] { return ContainerReader::open(file); }, file);
         const test::AlignedBytes held(bytes);
         for (const Ownership ownership : {Ownership::Borrow, Ownership::Copy})
-            EXPECT_EQ(outcome([&] { return PackageReader::openMemory(held.view(), ownership, kName); }, kName), want)
+            EXPECT_EQ(outcome([&] { return ContainerReader::openMemory(held.view(), ownership, kName); }, kName), want)
                 << (ownership == Ownership::Borrow ? "borrowed" : "copied");
         return want;
     }
@@ -81,11 +81,11 @@ class MemorySource : public ::testing::Test {
 };
 
 TEST_F(MemorySource, GoodBytesReadAsTheFileBorrowedInPlaceOrCopied) {
-    const PackageReader from_file = PackageReader::open(path_);
+    const ContainerReader from_file = ContainerReader::open(path_);
     test::AlignedBytes held(good_);
     for (const Ownership ownership : {Ownership::Borrow, Ownership::Copy}) {
         SCOPED_TRACE(ownership == Ownership::Borrow ? "borrowed" : "copied");
-        const PackageReader reader = PackageReader::openMemory(held.view(), ownership, kName);
+        const ContainerReader reader = ContainerReader::openMemory(held.view(), ownership, kName);
         EXPECT_EQ(reader.file(), kName);
         EXPECT_EQ(reader.isBorrowed(), ownership == Ownership::Borrow);
         EXPECT_FALSE(reader.isMemoryMapped());
@@ -104,10 +104,10 @@ TEST_F(MemorySource, GoodBytesReadAsTheFileBorrowedInPlaceOrCopied) {
         EXPECT_EQ(view.data() == held.view().data() + raw.offset, ownership == Ownership::Borrow);
     }
     // A copy owes nothing to the caller's buffer once open returns.
-    PackageReader copied = PackageReader::openMemory(held.view(), Ownership::Copy, kName);
+    ContainerReader copied = ContainerReader::openMemory(held.view(), Ownership::Copy, kName);
     const std::vector<std::byte> want = copied.read(*copied.find(kFactors, 1));
     std::memset(held.bytes().data(), 0xA5, held.bytes().size());
-    const PackageReader moved = std::move(copied);
+    const ContainerReader moved = std::move(copied);
     EXPECT_EQ(moved.read(*moved.find(kFactors, 1)), want);
     EXPECT_EQ(moved.metadata(), from_file.metadata());
 }
@@ -119,7 +119,7 @@ TEST_F(MemorySource, ABorrowedBufferThatIsNot64ByteAlignedIsRefusedAndACopyIsAli
         const test::AlignedBytes held(good_, misalignment);
         ASSERT_EQ(reinterpret_cast<uintptr_t>(held.view().data()) % kSectionAlignment, misalignment);
         try {
-            PackageReader::openMemory(held.view(), Ownership::Borrow, kName);
+            ContainerReader::openMemory(held.view(), Ownership::Borrow, kName);
             ADD_FAILURE() << "misalignment " << misalignment << " was accepted";
         } catch (const PackageError& e) {
             EXPECT_EQ(e.code(), ErrorCode::InvalidArgument) << e.what();
@@ -128,20 +128,20 @@ TEST_F(MemorySource, ABorrowedBufferThatIsNot64ByteAlignedIsRefusedAndACopyIsAli
             EXPECT_NE(message.find("64-byte aligned"), std::string::npos) << message;
             EXPECT_NE(message.find(std::to_string(misalignment) + " bytes past"), std::string::npos) << message;
         }
-        const PackageReader copied = PackageReader::openMemory(held.view(), Ownership::Copy, kName);
+        const ContainerReader copied = ContainerReader::openMemory(held.view(), Ownership::Copy, kName);
         const std::span<const std::byte> view = copied.mapped(*copied.find(kFactors, 0));
         EXPECT_EQ(reinterpret_cast<uintptr_t>(view.data()) % kSectionAlignment, 0u) << misalignment;
     }
     // Garbage that is also misaligned: the alignment, a caller's mistake, is reported first.
     const std::vector<std::byte> garbage(100, std::byte{0x42});
     const test::AlignedBytes held(garbage, 8);
-    test::expectPackageError([&] { PackageReader::openMemory(held.view(), Ownership::Borrow, kName); },
+    test::expectPackageError([&] { ContainerReader::openMemory(held.view(), Ownership::Borrow, kName); },
                              ErrorCode::InvalidArgument, kName);
 }
 
 TEST_F(MemorySource, EmptyBytesAreNotAPackage) {
     for (const Ownership ownership : {Ownership::Borrow, Ownership::Copy}) {
-        test::expectPackageError([&] { PackageReader::openMemory({}, ownership, kName); }, ErrorCode::NotAPackage,
+        test::expectPackageError([&] { ContainerReader::openMemory({}, ownership, kName); }, ErrorCode::NotAPackage,
                                  kName);
     }
 }

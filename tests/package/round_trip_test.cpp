@@ -1,4 +1,4 @@
-// Whatever goes into a PackageWriter comes out of a PackageReader bit-exact, in both codecs,
+// Whatever goes into a ContainerWriter comes out of a ContainerReader bit-exact, in both codecs,
 // through the mapping and through the read-into-memory fallback.
 
 #include <gtest/gtest.h>
@@ -6,8 +6,8 @@
 #include <cstring>
 #include <thread>
 
-#include "package/package_reader.h"
-#include "package/package_writer.h"
+#include "package/container_reader.h"
+#include "package/container_writer.h"
 #include "package_test_support.h"
 
 namespace firelook::package {
@@ -34,7 +34,7 @@ TEST_P(PackageRoundTrip, RawAndZstdSectionsComeBackBitExact) {
     const std::vector<float> zstd_floats = smoothFloats(3000, 2);
     const std::string json = R"({"tool":"firelook test","settings":{"bins":16}})";
     {
-        PackageWriter writer(path);
+        ContainerWriter writer(path);
         writer.addMetadata(json);
         writer.addSection(kFactors, 0, asBytes(raw_floats), Codec::Raw);
         writer.addSection(kFactors, 1, asBytes(zstd_floats), Codec::Zstd);
@@ -44,7 +44,7 @@ TEST_P(PackageRoundTrip, RawAndZstdSectionsComeBackBitExact) {
     }
     ReaderOptions options;
     options.memory_map = GetParam();
-    const PackageReader reader = PackageReader::open(path, options);
+    const ContainerReader reader = ContainerReader::open(path, options);
     EXPECT_EQ(reader.version(), (FormatVersion{kFormatMajor, kFormatMinor}));
     EXPECT_EQ(reader.isMemoryMapped(), GetParam());
     ASSERT_EQ(reader.sections().size(), 5u);
@@ -90,7 +90,7 @@ TEST(PackageRoundTrip, SectionsAreAlignedAndInWritingOrder) {
     TempDir dir;
     const auto path = dir / "aligned.firelook";
     {
-        PackageWriter writer(path);
+        ContainerWriter writer(path);
         for (uint32_t frame = 0; frame < 20; ++frame) {
             // Lengths that are not multiples of 64 force padding after every section.
             const std::vector<std::byte> odd(frame * 7 + 1, std::byte{static_cast<unsigned char>(frame)});
@@ -98,7 +98,7 @@ TEST(PackageRoundTrip, SectionsAreAlignedAndInWritingOrder) {
         }
         writer.commit();
     }
-    const PackageReader reader = PackageReader::open(path);
+    const ContainerReader reader = ContainerReader::open(path);
     ASSERT_EQ(reader.sections().size(), 20u);
     uint64_t previous_end = sizeof(FileHeader);
     for (uint32_t i = 0; i < 20; ++i) {
@@ -118,12 +118,12 @@ TEST(PackageRoundTrip, LargeSectionsSpanManyZstdBlocksAndPages) {
     // 3 M floats = 12 MB: far more than zstd's 128 KiB block and many pages of the mapping.
     const std::vector<float> values = smoothFloats(3u << 20, 7);
     {
-        PackageWriter writer(path, WriterOptions{.zstd_level = 3, .format_minor = kFormatMinor});
+        ContainerWriter writer(path, WriterOptions{.zstd_level = 3, .format_minor = kFormatMinor});
         writer.addSection(kFactors, 0, asBytes(values), Codec::Raw);
         writer.addSection(kFactors, 1, asBytes(values), Codec::Zstd);
         writer.commit();
     }
-    const PackageReader reader = PackageReader::open(path);
+    const ContainerReader reader = ContainerReader::open(path);
     const std::span<const std::byte> view = reader.mapped(*reader.find(kFactors, 0));
     ASSERT_EQ(view.size(), values.size() * sizeof(float));
     EXPECT_EQ(std::memcmp(view.data(), values.data(), view.size()), 0);
@@ -138,7 +138,7 @@ TEST(PackageRoundTrip, ManyFramesAreFoundByTypeAndFrame) {
     constexpr uint32_t kFrameCount = 400;
     constexpr uint32_t kAlpha = makeFourCC('A', 'L', 'P', 'H');
     {
-        PackageWriter writer(path);
+        ContainerWriter writer(path);
         writer.addMetadata("{}");
         // Frames written out of numeric order: lookup must not depend on the order in the file.
         for (uint32_t i = 0; i < kFrameCount; ++i) {
@@ -150,7 +150,7 @@ TEST(PackageRoundTrip, ManyFramesAreFoundByTypeAndFrame) {
         }
         writer.commit();
     }
-    const PackageReader reader = PackageReader::open(path);
+    const ContainerReader reader = ContainerReader::open(path);
     ASSERT_EQ(reader.sections().size(), 2 * kFrameCount + 1);
     for (uint32_t frame = 1; frame <= kFrameCount; ++frame) {
         const SectionInfo* factor = reader.find(kFactors, frame);
@@ -172,11 +172,11 @@ TEST(PackageRoundTrip, PackageWithoutSectionsIsValid) {
     TempDir dir;
     const auto path = dir / "empty.firelook";
     {
-        PackageWriter writer(path);
+        ContainerWriter writer(path);
         writer.commit();
     }
     EXPECT_EQ(std::filesystem::file_size(path), sizeof(FileHeader));
-    const PackageReader reader = PackageReader::open(path);
+    const ContainerReader reader = ContainerReader::open(path);
     EXPECT_TRUE(reader.sections().empty());
     EXPECT_EQ(reader.metadata(), std::nullopt);
     EXPECT_EQ(reader.find(kFactors, 0), nullptr);
@@ -188,11 +188,11 @@ TEST(PackageRoundTrip, ZstdLevelsAllDecodeToTheSameBytes) {
     for (int level : {-5, 1, 19}) {
         const auto path = dir / ("level" + std::to_string(level) + ".firelook");
         {
-            PackageWriter writer(path, WriterOptions{.zstd_level = level, .format_minor = kFormatMinor});
+            ContainerWriter writer(path, WriterOptions{.zstd_level = level, .format_minor = kFormatMinor});
             writer.addSection(kFactors, 0, asBytes(values));
             writer.commit();
         }
-        const PackageReader reader = PackageReader::open(path);
+        const ContainerReader reader = ContainerReader::open(path);
         const std::vector<std::byte> decoded = reader.read(reader.sections()[0]);
         ASSERT_EQ(decoded.size(), values.size() * sizeof(float)) << level;
         EXPECT_EQ(std::memcmp(decoded.data(), values.data(), decoded.size()), 0) << level;
@@ -203,11 +203,11 @@ TEST(PackageRoundTrip, OnlySectionsOfThisReaderAreAccepted) {
     TempDir dir;
     const auto path = dir / "foreign.firelook";
     {
-        PackageWriter writer(path);
+        ContainerWriter writer(path);
         writer.addSection(kFactors, 0, bytesOf("payload"), Codec::Zstd);
         writer.commit();
     }
-    const PackageReader reader = PackageReader::open(path);
+    const ContainerReader reader = ContainerReader::open(path);
     const SectionInfo copy = reader.sections()[0];
     EXPECT_EQ(reader.read(copy), bytesOf("payload"));  // an equal copy is as good as the original
 
@@ -226,12 +226,12 @@ TEST(PackageRoundTrip, ConcurrentReadersOfOneSectionAgree) {
     const auto path = dir / "threads.firelook";
     const std::vector<float> values = smoothFloats(50000, 4);
     {
-        PackageWriter writer(path);
+        ContainerWriter writer(path);
         writer.addSection(kFactors, 0, asBytes(values), Codec::Raw);
         writer.addSection(kFactors, 1, asBytes(values), Codec::Zstd);
         writer.commit();
     }
-    const PackageReader reader = PackageReader::open(path);
+    const ContainerReader reader = ContainerReader::open(path);
     std::vector<int> matches(8, 0);
     std::vector<std::thread> threads;
     for (std::size_t t = 0; t < matches.size(); ++t) {
@@ -250,13 +250,13 @@ TEST(PackageRoundTrip, MovedReaderKeepsItsMapping) {
     TempDir dir;
     const auto path = dir / "moved.firelook";
     {
-        PackageWriter writer(path);
+        ContainerWriter writer(path);
         writer.addSection(kFactors, 0, bytesOf("abc"), Codec::Raw);
         writer.commit();
     }
-    PackageReader first = PackageReader::open(path);
+    ContainerReader first = ContainerReader::open(path);
     const std::span<const std::byte> view = first.mapped(first.sections()[0]);
-    const PackageReader second = std::move(first);
+    const ContainerReader second = std::move(first);
     // The view belongs to the mapping, which moved with the reader.
     EXPECT_EQ(std::vector<std::byte>(view.begin(), view.end()), bytesOf("abc"));
     EXPECT_EQ(second.read(second.sections()[0]), bytesOf("abc"));

@@ -5,8 +5,8 @@
 
 #include <stdexcept>
 
-#include "package/package_reader.h"
-#include "package/package_writer.h"
+#include "package/container_reader.h"
+#include "package/container_writer.h"
 #include "package_test_support.h"
 
 namespace firelook::package {
@@ -18,7 +18,7 @@ using test::TempDir;
 constexpr uint32_t kFactors = makeFourCC('F', 'A', 'C', 'T');
 
 void writeSample(const std::filesystem::path& path, WriterOptions options = {}) {
-    PackageWriter writer(path, options);
+    ContainerWriter writer(path, options);
     writer.addMetadata(R"({"tool":"test"})");
     for (uint32_t frame = 1; frame <= 3; ++frame) {
         writer.addSection(kFactors, frame, asBytes(test::smoothFloats(5000, frame)),
@@ -27,27 +27,27 @@ void writeSample(const std::filesystem::path& path, WriterOptions options = {}) 
     writer.commit();
 }
 
-TEST(PackageWriter, CommitLeavesOnlyTheDestination) {
+TEST(ContainerWriter, CommitLeavesOnlyTheDestination) {
     TempDir dir;
     writeSample(dir / "fire.firelook");
     EXPECT_EQ(dir.entries(), std::vector<std::string>{"fire.firelook"});
-    EXPECT_NO_THROW(PackageReader::open(dir / "fire.firelook"));
+    EXPECT_NO_THROW(ContainerReader::open(dir / "fire.firelook"));
 }
 
-TEST(PackageWriter, TemporaryFileSitsBesideTheDestinationUntilCommit) {
+TEST(ContainerWriter, TemporaryFileSitsBesideTheDestinationUntilCommit) {
     TempDir dir;
-    PackageWriter writer(dir / "fire.firelook");
+    ContainerWriter writer(dir / "fire.firelook");
     EXPECT_EQ(writer.temporaryPath().parent_path(), dir.path());
     EXPECT_TRUE(std::filesystem::exists(writer.temporaryPath()));
     EXPECT_FALSE(std::filesystem::exists(dir / "fire.firelook"));
     // Until commit the temporary file is not a package, so nothing can mistake it for one.
-    test::expectPackageError([&] { PackageReader::open(writer.temporaryPath()); }, ErrorCode::NotAPackage,
+    test::expectPackageError([&] { ContainerReader::open(writer.temporaryPath()); }, ErrorCode::NotAPackage,
                              writer.temporaryPath());
 }
 
-TEST(PackageWriter, SectionsStreamToDiskInsteadOfStayingInMemory) {
+TEST(ContainerWriter, SectionsStreamToDiskInsteadOfStayingInMemory) {
     TempDir dir;
-    PackageWriter writer(dir / "fire.firelook");
+    ContainerWriter writer(dir / "fire.firelook");
     const std::vector<float> frame = test::smoothFloats(1 << 18, 1);  // 1 MiB per frame
     for (uint32_t i = 0; i < 4; ++i) {
         writer.addSection(kFactors, i, asBytes(frame), Codec::Raw);
@@ -57,24 +57,24 @@ TEST(PackageWriter, SectionsStreamToDiskInsteadOfStayingInMemory) {
     }
 }
 
-TEST(PackageWriter, DestroyedWithoutCommitLeavesDestinationUntouched) {
+TEST(ContainerWriter, DestroyedWithoutCommitLeavesDestinationUntouched) {
     TempDir dir;
     const auto path = dir / "fire.firelook";
     writeSample(path);
     const std::vector<std::byte> before = test::readFile(path);
     {
-        PackageWriter writer(path);
+        ContainerWriter writer(path);
         writer.addSection(kFactors, 9, asBytes(test::smoothFloats(100, 9)));
     }
     EXPECT_EQ(dir.entries(), std::vector<std::string>{"fire.firelook"});
     EXPECT_EQ(test::readFile(path), before);
 }
 
-TEST(PackageWriter, ExceptionDuringBakeRemovesTemporaryAndCreatesNothing) {
+TEST(ContainerWriter, ExceptionDuringBakeRemovesTemporaryAndCreatesNothing) {
     TempDir dir;
     EXPECT_THROW(
         {
-            PackageWriter writer(dir / "fire.firelook");
+            ContainerWriter writer(dir / "fire.firelook");
             writer.addSection(kFactors, 1, asBytes(test::smoothFloats(100, 1)));
             throw std::runtime_error("bake failed");
         },
@@ -82,34 +82,34 @@ TEST(PackageWriter, ExceptionDuringBakeRemovesTemporaryAndCreatesNothing) {
     EXPECT_TRUE(dir.entries().empty());
 }
 
-TEST(PackageWriter, CommitReplacesAnExistingPackage) {
+TEST(ContainerWriter, CommitReplacesAnExistingPackage) {
     TempDir dir;
     const auto path = dir / "fire.firelook";
     writeSample(path);
     {
-        PackageWriter writer(path);
+        ContainerWriter writer(path);
         writer.addMetadata(R"({"tool":"second"})");
         writer.commit();
     }
-    EXPECT_EQ(PackageReader::open(path).metadata(), R"({"tool":"second"})");
+    EXPECT_EQ(ContainerReader::open(path).metadata(), R"({"tool":"second"})");
     EXPECT_EQ(dir.entries(), std::vector<std::string>{"fire.firelook"});
 }
 
-TEST(PackageWriter, SameInputGivesIdenticalBytes) {
+TEST(ContainerWriter, SameInputGivesIdenticalBytes) {
     TempDir dir;
     writeSample(dir / "a.firelook");
     writeSample(dir / "b.firelook");
     EXPECT_EQ(test::readFile(dir / "a.firelook"), test::readFile(dir / "b.firelook"));
 }
 
-TEST(PackageWriter, MoveTransfersTheUncommittedFile) {
+TEST(ContainerWriter, MoveTransfersTheUncommittedFile) {
     TempDir dir;
-    PackageWriter first(dir / "a.firelook");
+    ContainerWriter first(dir / "a.firelook");
     first.addSection(kFactors, 0, asBytes(test::smoothFloats(10, 0)));
-    PackageWriter second = std::move(first);
+    ContainerWriter second = std::move(first);
     test::expectPackageError([&] { first.commit(); }, ErrorCode::InvalidState, {});
 
-    PackageWriter other(dir / "b.firelook");
+    ContainerWriter other(dir / "b.firelook");
     const auto other_temporary = other.temporaryPath();
     other = std::move(second);  // discards b's uncommitted file
     EXPECT_FALSE(std::filesystem::exists(other_temporary));
@@ -117,15 +117,15 @@ TEST(PackageWriter, MoveTransfersTheUncommittedFile) {
     EXPECT_EQ(dir.entries(), std::vector<std::string>{"a.firelook"});
 }
 
-TEST(PackageWriter, RejectsMisuse) {
+TEST(ContainerWriter, RejectsMisuse) {
     TempDir dir;
     const auto path = dir / "fire.firelook";
     test::expectPackageError(
-        [&] { PackageWriter(path, WriterOptions{.zstd_level = 1000, .format_minor = kFormatMinor}); },
+        [&] { ContainerWriter(path, WriterOptions{.zstd_level = 1000, .format_minor = kFormatMinor}); },
         ErrorCode::InvalidArgument, path);
     EXPECT_TRUE(dir.entries().empty());
 
-    PackageWriter writer(path);
+    ContainerWriter writer(path);
     writer.addSection(kFactors, 1, asBytes(test::smoothFloats(10, 1)));
     test::expectPackageError([&] { writer.addSection(kFactors, 1, {}); }, ErrorCode::InvalidArgument, path);
     test::expectPackageError([&] { writer.addSection(kFactors, 2, {}, static_cast<Codec>(7)); },
@@ -134,13 +134,13 @@ TEST(PackageWriter, RejectsMisuse) {
     writer.commit();
     test::expectPackageError([&] { writer.addSection(kFactors, 3, {}); }, ErrorCode::InvalidState, path);
     test::expectPackageError([&] { writer.commit(); }, ErrorCode::InvalidState, path);
-    EXPECT_EQ(PackageReader::open(path).sections().size(), 2u);
+    EXPECT_EQ(ContainerReader::open(path).sections().size(), 2u);
 }
 
-TEST(PackageWriter, MissingFolderIsAnIoErrorNamingTheDestination) {
+TEST(ContainerWriter, MissingFolderIsAnIoErrorNamingTheDestination) {
     TempDir dir;
     const auto path = dir / "no such folder" / "fire.firelook";
-    test::expectPackageError([&] { PackageWriter writer(path); }, ErrorCode::IoError, path);
+    test::expectPackageError([&] { ContainerWriter writer(path); }, ErrorCode::IoError, path);
 }
 
 }  // namespace

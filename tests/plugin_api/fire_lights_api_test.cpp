@@ -28,7 +28,7 @@ namespace basis = firelook::basis;
 void writeFireLightPackage(const std::filesystem::path& file, bool with_lights) {
     firelook::testing::SyntheticShape shape;
     basis::BakeDescription d = firelook::testing::syntheticDescription(shape);
-    firelook::package::PackageWriter writer(file, firelook::package::WriterOptions{1});
+    firelook::package::ContainerWriter writer(file, firelook::package::WriterOptions{1});
     uint64_t state = 5;
     for (int frame : shape.frames) {
         basis::writeFrameFactors(writer, d, firelook::testing::syntheticFrame(d, frame, 4, 3));
@@ -70,8 +70,8 @@ class FireLightsApi : public ::testing::Test {
 
     // The runtime's lights for frame slot `slot` and a look.
     std::vector<basis::FireLight> expected(int slot, const firelook::Look& look, int count) {
-        const auto p = firelook::runtime::Package::open(path_);
-        const firelook::runtime::ResolvedLook r = firelook::runtime::resolveLook(look, p->description());
+        const auto p = firelook::world::Package::open(path_);
+        const firelook::world::ResolvedLook r = firelook::world::resolveLook(look, p->description());
         std::vector<basis::FireLight> out(count);
         basis::evaluateFireLights(*p->fireLights(slot), basis::interpolationWeights(p->description().axes, r.extinction),
                                   r.rbf, count, out.data());
@@ -96,7 +96,7 @@ TEST_F(FireLightsApi, PackageLightsAreTheRuntimesForTheLookAndRespectTheStride) 
     ASSERT_EQ(fl_package_get_fire_lights(package_, 2, fl_look{}, 0, nullptr, sizeof(fl_fire_light), 0, &stored), FL_OK);
     EXPECT_EQ(stored, 4u);
     const firelook::Look custom = [&] {
-        firelook::Look l = firelook::runtime::Package::open(path_)->defaultLook();
+        firelook::Look l = firelook::world::Package::open(path_)->defaultLook();
         l.smoke_extinction = 5.0;
         l.temperature_threshold = 1.3;
         return l;
@@ -125,7 +125,7 @@ TEST_F(FireLightsApi, PackageLightsAreTheRuntimesForTheLookAndRespectTheStride) 
     // The default look (handle 0) is the package's.
     fl_fire_light one{};
     ASSERT_EQ(fl_package_get_fire_lights(package_, 1, fl_look{}, 1, &one, sizeof one, 1, nullptr), FL_OK);
-    expectSame(one, expected(0, firelook::runtime::Package::open(path_)->defaultLook(), 1)[0]);
+    expectSame(one, expected(0, firelook::world::Package::open(path_)->defaultLook(), 1)[0]);
     EXPECT_EQ(fl_look_release(handle), FL_OK);
 }
 
@@ -143,7 +143,7 @@ TEST_F(FireLightsApi, RefusesBadHandlesArgumentsAndSizes) {
                                          firelook::plugin::FirstSize<fl_fire_light>::value - 1, 4, nullptr),
               FL_ERROR_STRUCT_SIZE);
     fl_look other_albedo{};
-    firelook::Look wrong = firelook::runtime::Package::open(path_)->defaultLook();
+    firelook::Look wrong = firelook::world::Package::open(path_)->defaultLook();
     wrong.albedo = 0.2;
     const std::string wrong_json = firelook::lookToJson(wrong);
     ASSERT_EQ(fl_look_from_json(wrong_json.c_str(), 0, "a", &other_albedo), FL_OK) << fl_last_error();

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "../support/temp_dir.h"
-#include "package/package_reader.h"
+#include "package/container_reader.h"
 #include "struct_rule.h"  // plugin_api/src
 #include "synthetic_package.h"
 
@@ -211,7 +211,7 @@ TEST_F(MemoryPackage, APackageHeldOnlyInMemoryPlaysBitForBitAsItsFile) {
 // forbids) is found by that frame's checksum on its first read, and the message names the source.
 // A copy is immune to the same change.
 TEST_F(MemoryPackage, ABorrowedBufferIsReadInPlaceAndACopyIsNot) {
-    const auto reader = firelook::package::PackageReader::open(path_);
+    const auto reader = firelook::package::ContainerReader::open(path_);
     const firelook::package::SectionInfo* u5 = reader.find(firelook::basis::kSectionU, 5);
     ASSERT_NE(u5, nullptr);
     ASSERT_GT(u5->stored_size, 0u);

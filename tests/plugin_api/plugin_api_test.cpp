@@ -380,7 +380,7 @@ TEST_F(PluginApiWorld, ImageEqualsRenderLookImageAndGpuDataReproducesIt) {
 
     // Reference: the runtime's renderLookImage of the same package, frame and look (the resident
     // form, as the world draws it).
-    const auto package = firelook::basis::BasisPackage::open(path_);
+    const auto package = firelook::basis::BasisReader::open(path_);
     const auto& d = package.description();
     const firelook::basis::ResidentFrame f = package.loadResidentFrame(4, std::pmr::get_default_resource());
     std::vector<float> want(image.size());
@@ -860,7 +860,7 @@ TEST_F(PluginApiWorld, AHandleOfAnotherKindIsRefused) {
 TEST_F(PluginApiWorld, ABadPackageIsCorruptAndTheMessageNamesTheFile) {
     const std::string bad_meta = (dir_ / "bad-meta.firelook").string();
     {
-        firelook::package::PackageWriter writer(bad_meta, firelook::package::WriterOptions{1});
+        firelook::package::ContainerWriter writer(bad_meta, firelook::package::WriterOptions{1});
         writer.addMetadata(R"({"format": "firelook-basis", "bake": {"width": 16}})");
         writer.commit();
     }
@@ -873,7 +873,7 @@ TEST_F(PluginApiWorld, ABadPackageIsCorruptAndTheMessageNamesTheFile) {
         firelook::testing::SyntheticShape shape;
         firelook::basis::BakeDescription d = firelook::testing::syntheticDescription(shape);
         d.frames = {{3, 4}};  // listed, but its sections were never written
-        firelook::package::PackageWriter writer(no_frames, firelook::package::WriterOptions{1});
+        firelook::package::ContainerWriter writer(no_frames, firelook::package::WriterOptions{1});
         writer.addMetadata(firelook::basis::makeMetadata(d, "{}"));
         writer.commit();
     }
@@ -937,7 +937,7 @@ TEST_F(PluginApiWorld, FitLookIsTheRuntimesFit) {
     EXPECT_EQ(progress.last, 1.0);
     EXPECT_GE(report.evaluations, 6 * 4 * 3) << "every grid point of the synthetic package, then the local search";
 
-    const auto package = firelook::basis::BasisPackage::open(path_);
+    const auto package = firelook::basis::BasisReader::open(path_);
     const firelook::basis::ResidentFrame frame = package.loadResidentFrame(4, std::pmr::get_default_resource());
     const firelook::basis::ResidentFrame* frames[] = {&frame};
     firelook::fit::FrameTarget t;

@@ -43,7 +43,7 @@ void writeScenePackage(const std::filesystem::path& file, const std::string& cam
     basis::BakeDescription d = firelook::testing::syntheticDescription(shape);
     d.light_directions = {{0.0, -2.0, 0.0}, second_light};  // not unit: the API normalises
     d.footprint_samples = 4;
-    firelook::package::PackageWriter writer(file, firelook::package::WriterOptions{1});
+    firelook::package::ContainerWriter writer(file, firelook::package::WriterOptions{1});
     for (int frame : shape.frames) {
         const int rank = 8 - static_cast<int>(d.frames.size());
         basis::FrameFactors f = firelook::testing::syntheticFrame(d, frame, rank, 7);
@@ -53,11 +53,11 @@ void writeScenePackage(const std::filesystem::path& file, const std::string& cam
             for (size_t p = 0; p < pixels; ++p) {
                 // Odd pixels' rays differ (kept), even pixels' agree (mean ray only).
                 const float spread = p % 2 ? 1.0f + 0.4f * static_cast<float>(s) : 1.0f;
-                density[s * pixels + p] = f.depth_density[p] * spread;
-                for (size_t j = 0; j < t; ++j) sigmoid[(s * t + j) * pixels + p] = f.depth_sigmoid[j * pixels + p] * spread;
+                density[s * pixels + p] = f.depth_b[p] * spread;
+                for (size_t j = 0; j < t; ++j) sigmoid[(s * t + j) * pixels + p] = f.depth_a[j * pixels + p] * spread;
             }
-        f.depth_density = std::move(density);
-        f.depth_sigmoid = std::move(sigmoid);
+        f.depth_b = std::move(density);
+        f.depth_a = std::move(sigmoid);
         basis::writeFrameFactors(writer, d, f);
         d.frames.push_back({frame, rank});
     }
@@ -223,7 +223,7 @@ TEST_F(SceneApi, NoCameraIsNotFoundAndAMalformedOneIsCorruptButThePackageStillPl
 }
 
 TEST_F(SceneApi, LightsAreThePackagesDirectionsAndTheDefaultLooksIrradiance) {
-    const basis::BasisPackage reference = basis::BasisPackage::open(path_);
+    const basis::BasisReader reference = basis::BasisReader::open(path_);
     const firelook::Look default_look =
         firelook::parseLook(reference.description().default_look_json, "default look");
     uint32_t count = 0;
@@ -267,13 +267,13 @@ TEST_F(SceneApi, MetadataIsThePackagesMetaDocument) {
     ASSERT_EQ(fl_package_get_metadata_json(package_, text.data(), size, &size), FL_OK);
     EXPECT_EQ(text.back(), '\0');
     text.pop_back();
-    EXPECT_EQ(text, basis::BasisPackage::open(path_).metadataJson());
+    EXPECT_EQ(text, basis::BasisReader::open(path_).metadataJson());
     EXPECT_NE(text.find("fire_####.vdb"), std::string::npos);
     EXPECT_EQ(fl_package_get_metadata_json(fl_package{0}, nullptr, 0, &size), FL_ERROR_INVALID_HANDLE);
 }
 
 TEST_F(SceneApi, BinEmissivityIsTheLooksResolutionAndRendersTheSameImage) {
-    const basis::BakeDescription d = basis::BasisPackage::open(path_).description();
+    const basis::BakeDescription d = basis::BasisReader::open(path_).description();
     const std::string preset = R"({"format": "firelook-look", "version": 1, "temperature_threshold": 1.5,
       "smoke_extinction": 4.0, "flame_extinction": 1.0, "albedo": 0.7,
       "emission": {"preset": "blackbody", "scale": 2.5}, "light_irradiance": [[1, 1, 1], [1, 1, 1]]})";
@@ -356,12 +356,12 @@ TEST_F(SceneApi, InstanceLookIsTheLookSetOrTheRuntimesInterpolation) {
     ASSERT_EQ(fl_instance_get_state(world_, i, &state), FL_OK);
     ASSERT_EQ(state.frame_position, 3.5);
     ASSERT_EQ(fl_instance_get_look(world_, i, &shown), FL_OK) << fl_last_error();
-    const basis::BakeDescription d = basis::BasisPackage::open(path_).description();
-    const std::vector<firelook::runtime::Keyframe> resolved = {
-        {3.0, firelook::runtime::resolveLook(firelook::parseLook(stopsLook(1.3), "a"), d)},
-        {5.0, firelook::runtime::resolveLook(firelook::parseLook(stepBinsLook(), "b"), d)}};
+    const basis::BakeDescription d = basis::BasisReader::open(path_).description();
+    const std::vector<firelook::world::Keyframe> resolved = {
+        {3.0, firelook::world::resolveLook(firelook::parseLook(stopsLook(1.3), "a"), d)},
+        {5.0, firelook::world::resolveLook(firelook::parseLook(stepBinsLook(), "b"), d)}};
     ASSERT_FALSE(resolved[1].look.exact_interpolant);
-    const firelook::Look want = firelook::runtime::sampledLook(resolved, 3.5, d);
+    const firelook::Look want = firelook::world::sampledLook(resolved, 3.5, d);
     const firelook::Look got = firelook::parseLook(jsonOf(shown), "shown");
     EXPECT_EQ(got.temperature_threshold, want.temperature_threshold);
     EXPECT_EQ(got.temperature_threshold, state.temperature_threshold);
@@ -467,10 +467,10 @@ TEST_F(SceneApi, InstanceFrameLayersComeFromTheCacheAndEqualThePackages) {
 // The default look is parsed and fitted once, by Package::open: instances start from that
 // resolution and fl_package_default_look hands out that look.
 TEST_F(SceneApi, DefaultLookIsResolvedOnceByThePackage) {
-    const auto package = firelook::runtime::Package::open(path_);
+    const auto package = firelook::world::Package::open(path_);
     const basis::BakeDescription& d = package->description();
-    const firelook::runtime::ResolvedLook want =
-        firelook::runtime::resolveLook(firelook::parseLook(d.default_look_json, "default"), d);
+    const firelook::world::ResolvedLook want =
+        firelook::world::resolveLook(firelook::parseLook(d.default_look_json, "default"), d);
     EXPECT_EQ(package->resolvedDefaultLook().rbf, want.rbf);
     EXPECT_EQ(package->resolvedDefaultLook().lights, want.lights);
     EXPECT_EQ(firelook::lookToJson(package->defaultLook()), firelook::lookToJson(want.source));

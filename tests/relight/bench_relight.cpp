@@ -57,7 +57,7 @@ std::span<const glm::dvec3, basis::kSixWayLightCount> sixWay(const basis::BakeDe
 }
 
 int bakedDirections(const std::string& package) {
-    const basis::BasisPackage p = basis::BasisPackage::open(package);
+    const basis::BasisReader p = basis::BasisReader::open(package);
     const auto six = sixWay(p.description());
     for (int i = 0; i < basis::kSixWayLightCount; ++i)
         std::printf("baked_%s %.17g %.17g %.17g\n", std::string(basis::kSixWayLightNames[i]).c_str(), six[i].x,
@@ -93,7 +93,7 @@ double median(std::vector<double> v) {
 }
 
 int judge(const std::string& package, int frame_number, const std::string& look_path, const std::string& dir) {
-    const basis::BasisPackage p = basis::BasisPackage::open(package);
+    const basis::BasisReader p = basis::BasisReader::open(package);
     const basis::BakeDescription& d = p.description();
     const auto six = sixWay(d);
     const basis::ResidentFrame frame = p.loadResidentFrame(frame_number, std::pmr::get_default_resource());
@@ -179,7 +179,7 @@ int main(int argc, char** argv) {
         if (mode == "directions" && argc == 4) return directions(std::stoi(argv[2]), std::stoull(argv[3]));
         if (mode == "baked" && argc == 3) return bakedDirections(argv[2]);
         if (mode == "look" && argc == 4) {
-            const basis::BasisPackage p = basis::BasisPackage::open(argv[2]);
+            const basis::BasisReader p = basis::BasisReader::open(argv[2]);
             saveLook(argv[3], darkLook(p.description()));
             return 0;
         }

@@ -117,7 +117,7 @@ void writePackage(const std::filesystem::path& file, bool six_way) {
         std::copy(six.begin(), six.end(), d.light_directions.begin() + 1);
         d.six_way_first_light = 1;
     }
-    package::PackageWriter writer(file, package::WriterOptions{1});
+    package::ContainerWriter writer(file, package::WriterOptions{1});
     for (int frame : shape.frames) {
         basis::writeFrameFactors(writer, d, firelook::testing::syntheticFrame(d, frame, shape.rank, 3));
         d.frames.push_back({frame, shape.rank});
@@ -160,7 +160,7 @@ class RelightApi : public ::testing::Test {
     // The package's first frame under its default look with the six-way lights' irradiance `six`,
     // rendered by the runtime directly (what the world must match).
     std::vector<float> expected(const std::array<Rgb, kSix>& six) {
-        const basis::BasisPackage p = basis::BasisPackage::open(six_path_);
+        const basis::BasisReader p = basis::BasisReader::open(six_path_);
         const basis::BakeDescription& d = p.description();
         Look look = parseLook(d.default_look_json, "default");
         std::copy(six.begin(), six.end(), look.light_irradiance.begin() + 1);
@@ -310,7 +310,7 @@ TEST(RelightCli, RenderLightDirection) {
     const TempDir dir;
     writePackage(dir / "six.firelook", true);
     writePackage(dir / "plain.firelook", false);
-    const basis::BasisPackage p = basis::BasisPackage::open(dir / "six.firelook");
+    const basis::BasisReader p = basis::BasisReader::open(dir / "six.firelook");
     Look look = parseLook(p.description().default_look_json, "default");
     std::fill(look.light_irradiance.begin() + 1, look.light_irradiance.end(), Rgb(0.0f));
     look.light_irradiance[1 + 4] = Rgb(3.0f);  // bottom

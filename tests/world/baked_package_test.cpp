@@ -10,7 +10,7 @@
 #include "basis/look_renderer.h"
 #include "world/world.h"
 
-namespace firelook::runtime {
+namespace firelook::world {
 namespace {
 
 TEST(BakedPackage, WorldImagesEqualRenderLookImage) {
@@ -65,4 +65,4 @@ TEST(BakedPackage, WorldImagesEqualRenderLookImage) {
 }
 
 }  // namespace
-}  // namespace firelook::runtime
+}  // namespace firelook::world

@@ -33,10 +33,10 @@ constexpr uint32_t kTypes[3] = {firelook::basis::kSectionU, firelook::basis::kSe
                                 firelook::basis::kSectionDepths};
 
 // One run of the parts: each section read (checksum + zstd) into its buffer, then decoded from it.
-void timeParts(const firelook::runtime::Package& package, int slot, firelook::basis::ResidentFrame& out,
+void timeParts(const firelook::world::Package& package, int slot, firelook::basis::ResidentFrame& out,
                firelook::basis::FrameReadBuffers& buffers, Parts& parts) {
     using namespace firelook;
-    const package::PackageReader& reader = package.basis().reader();
+    const package::ContainerReader& reader = package.basis().reader();
     const basis::BakeDescription& d = package.description();
     const int frame = package.frameNumber(slot), rank = package.frameRank(slot);
     package::SectionBuffer* section_buffers[3] = {&buffers.u, &buffers.svt, &buffers.depths};
@@ -71,8 +71,8 @@ int main(int argc, char** argv) {
     const int runs = argc > 2 ? std::atoi(argv[2]) : 15;
     const int instances = argc > 3 ? std::atoi(argv[3]) : 100;
     const size_t budget = (argc > 4 ? std::strtoull(argv[4], nullptr, 10) : 512) << 20;
-    const auto package = runtime::Package::open(argv[1]);
-    const std::shared_ptr<const runtime::Package> baseline = argc > 5 ? runtime::Package::open(argv[5]) : nullptr;
+    const auto package = world::Package::open(argv[1]);
+    const std::shared_ptr<const world::Package> baseline = argc > 5 ? world::Package::open(argv[5]) : nullptr;
     const auto& d = package->description();
     std::printf("package %s: %d frames, %dx%d, %d footprint rays, %zu thresholds\n", argv[1], package->frameCount(),
                 d.width, d.height, d.footprint_samples, d.alpha_thresholds.size());
@@ -147,15 +147,15 @@ int main(int argc, char** argv) {
                     median(ratios));
 
     // A world with `instances` instances spread over the frames, CPU images on.
-    runtime::WorldSettings settings;
+    world::WorldSettings settings;
     settings.frame_cache_bytes = budget;
-    runtime::World world(settings);
+    world::World world(settings);
     for (int i = 0; i < instances; ++i) {
-        const runtime::InstanceHandle h = world.create(package);
-        runtime::PlaybackSettings playback;
+        const world::InstanceHandle h = world.create(package);
+        world::PlaybackSettings playback;
         playback.time = double(i % package->frameCount()) / playback.rate;
         world.setPlayback(h, playback);
-        runtime::OutputSettings outputs;
+        world::OutputSettings outputs;
         outputs.image = true;
         world.setOutputs(h, outputs);
     }

@@ -92,7 +92,7 @@ int main(int argc, char** argv) {
     shape.frames = {1};
     shape.alpha_thresholds = 41;
     testing::writeSyntheticPackage(dir / "bench.firelook", shape);
-    auto package = runtime::Package::open(dir / "bench.firelook");
+    auto package = world::Package::open(dir / "bench.firelook");
     const basis::BakeDescription& d = package->description();
     const basis::FrameFactors factors = package->basis().loadFrame(1);
     std::printf("bench_runtime: synthetic package %dx%d, rank %d, %d bins, %d lights, grid %zux%zux%zu (%d columns)\n",
@@ -104,11 +104,11 @@ int main(int argc, char** argv) {
     // 1. One instance: playback + keyframe interpolation + coefficients, through World::update.
     const Look a = benchLook(1.3, 3.0, 1.0, 2.0), b = benchLook(1.75, 10.0, 2.5, 4.0);
     {
-        runtime::World world;
-        const runtime::InstanceHandle h = world.create(package);
+        world::World world;
+        const world::InstanceHandle h = world.create(package);
         const std::vector<std::pair<double, Look>> keys = {{1.0, a}, {1.9, b}};
         world.setKeyframes(h, keys);
-        runtime::PlaybackSettings pb;
+        world::PlaybackSettings pb;
         pb.rate = 0.0;  // position stays at 1 + 0 -> use a paused time between the keys instead
         pb.playing = false;
         pb.rate = 1.0;
@@ -155,13 +155,13 @@ int main(int argc, char** argv) {
 
     // 2. 10,000 instances, one update.
     {
-        runtime::World world;
+        world::World world;
         for (int i = 0; i < 10000; ++i) {
-            const runtime::InstanceHandle h = world.create(package);
+            const world::InstanceHandle h = world.create(package);
             const Look ka = benchLook(1.1 + 0.0001 * i, 2.5 + 0.001 * i, 0.6 + 0.0002 * i, 1.0f + 0.001f * i);
             const std::vector<std::pair<double, Look>> keys = {{1.0, ka}, {1.9, b}};
             world.setKeyframes(h, keys);
-            runtime::PlaybackSettings pb;
+            world::PlaybackSettings pb;
             pb.time = 0.001 * i;
             pb.rate = 1.0;
             world.setPlayback(h, pb);
@@ -209,14 +209,14 @@ int main(int argc, char** argv) {
             basis::BakeDescription ds = d;
             ds.footprint_samples = samples;
             basis::FrameFactors fs = factors;
-            fs.depth_density.resize(pixels * samples);
-            fs.depth_sigmoid.resize(pixels * samples * thresholds);
+            fs.depth_b.resize(pixels * samples);
+            fs.depth_a.resize(pixels * samples * thresholds);
             for (int s = samples - 1; s >= 0; --s) {
                 const float scale = 0.6f + 0.8f * static_cast<float>(s) / static_cast<float>(std::max(samples - 1, 1));
-                for (size_t p = 0; p < pixels; ++p) fs.depth_density[s * pixels + p] = scale * factors.depth_density[p];
+                for (size_t p = 0; p < pixels; ++p) fs.depth_b[s * pixels + p] = scale * factors.depth_b[p];
                 for (size_t t = 0; t < thresholds; ++t)
                     for (size_t p = 0; p < pixels; ++p)
-                        fs.depth_sigmoid[(s * thresholds + t) * pixels + p] = scale * factors.depth_sigmoid[t * pixels + p];
+                        fs.depth_a[(s * thresholds + t) * pixels + p] = scale * factors.depth_a[t * pixels + p];
             }
             const double bytes = static_cast<double>(u.size()) * sizeof(float) +
                                  static_cast<double>(pixels) * samples * (between ? 3 : 2) * sizeof(float);
@@ -251,15 +251,15 @@ int main(int argc, char** argv) {
             above += 0.2126f * image[p] + 0.7152f * image[p + 1] + 0.0722f * image[p + 2] > 1.0f;
         std::printf("lens flare input: the reconstructed image x 4, %.1f%% of pixels above the threshold 1\n",
                     100.0 * static_cast<double>(above) / static_cast<double>(image.size() / 4));
-        std::vector<float> scratch(runtime::lensFlareScratchFloats(d.width, d.height)), flare(image.size());
-        runtime::LensFlareSettings fs;
+        std::vector<float> scratch(world::lensFlareScratchFloats(d.width, d.height)), flare(image.size());
+        world::LensFlareSettings fs;
         const double s_flare = medianSeconds(reps, [&] {
-            runtime::renderLensFlare(image.data(), d.width, d.height, fs, scratch.data(), flare.data());
+            world::renderLensFlare(image.data(), d.width, d.height, fs, scratch.data(), flare.data());
         });
         const double c_flare = g_cpu;
         fs.streaks = 2;
         const double s_flare2 = medianSeconds(reps, [&] {
-            runtime::renderLensFlare(image.data(), d.width, d.height, fs, scratch.data(), flare.data());
+            world::renderLensFlare(image.data(), d.width, d.height, fs, scratch.data(), flare.data());
         });
         std::printf("lens flare 512x512 (4 ghosts, halo, horizontal streak): median %.2f ms (CPU %.2f ms); "
                     "with vertical streak too: %.2f ms (CPU %.2f ms)\n",

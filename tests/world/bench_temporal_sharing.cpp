@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
     }
     const int window = argc > 2 ? std::max(1, std::atoi(argv[2])) : 2;
     const double target = argc > 3 ? std::atof(argv[3]) : 0.003;
-    const auto package = runtime::Package::open(argv[1]);
+    const auto package = world::Package::open(argv[1]);
     const int frames = package->frameCount();
     std::vector<basis::ResidentFrame> resident;
     for (int slot = 0; slot < frames; ++slot)

@@ -11,7 +11,7 @@
 
 #include "world/look_track.h"
 
-namespace firelook::runtime {
+namespace firelook::world {
 namespace {
 
 struct Key {
@@ -115,4 +115,4 @@ TEST(KeyframeBracket, SampleKeyframesFollowsTheBracket) {
 }
 
 }  // namespace
-}  // namespace firelook::runtime
+}  // namespace firelook::world

@@ -13,7 +13,7 @@
 #include <tuple>
 #include <vector>
 
-namespace firelook::runtime {
+namespace firelook::world {
 namespace {
 
 struct Flare {
@@ -375,4 +375,4 @@ TEST(LensFlare, HugeInfiniteAndNaNInputStaysFinite) {
 }
 
 }  // namespace
-}  // namespace firelook::runtime
+}  // namespace firelook::world

@@ -66,19 +66,19 @@ inline basis::FrameFactors syntheticFrame(const basis::BakeDescription& d, int f
     for (auto& u : f.u_half) u = glm::packHalf1x16(syntheticValue(state) - 0.5f);
     f.svt.resize(static_cast<size_t>(f.columns) * rank);
     for (auto& v : f.svt) v = 2.0f * syntheticValue(state) - 1.0f;
-    f.depth_density.resize(f.pixels);
-    for (auto& v : f.depth_density) v = 2.0f * syntheticValue(state);
+    f.depth_b.resize(f.pixels);
+    for (auto& v : f.depth_b) v = 2.0f * syntheticValue(state);
     const size_t t = d.alpha_thresholds.size();
-    f.depth_sigmoid.resize(static_cast<size_t>(f.pixels) * t);
+    f.depth_a.resize(static_cast<size_t>(f.pixels) * t);
     for (int p = 0; p < f.pixels; ++p)
         for (size_t j = 0; j < t; ++j)  // O_a in [-O_b, O_b], decreasing in T_c like the real thing
-            f.depth_sigmoid[j * f.pixels + p] = f.depth_density[p] * (1.0f - 2.0f * (j + 0.5f) / t);
+            f.depth_a[j * f.pixels + p] = f.depth_b[p] * (1.0f - 2.0f * (j + 0.5f) / t);
     return f;
 }
 
 inline void writeSyntheticPackage(const std::filesystem::path& file, const SyntheticShape& s) {
     basis::BakeDescription d = syntheticDescription(s);
-    package::PackageWriter writer(file, package::WriterOptions{1});
+    package::ContainerWriter writer(file, package::WriterOptions{1});
     for (int frame : s.frames) {
         // Ranks differ per frame (rank, rank - 1, ...) so per-frame ranks are exercised.
         const int rank = std::max(1, s.rank - static_cast<int>(d.frames.size()));

@@ -15,7 +15,7 @@
 #include "basis/recombine.h"
 #include "synthetic_package.h"
 
-namespace firelook::runtime {
+namespace firelook::world {
 namespace {
 
 using firelook::testing::SyntheticShape;
@@ -538,4 +538,4 @@ TEST(World, SeveralPackagesCoexist) {
 }
 
 }  // namespace
-}  // namespace firelook::runtime
+}  // namespace firelook::world

@@ -1,4 +1,4 @@
-#include "package/package_reader.h"
+#include "package/container_reader.h"
 
 #include <algorithm>
 #include <cstring>
@@ -119,18 +119,18 @@ void validateEntry(const IndexEntry& entry, uint64_t data_end, uint64_t index_of
 
 }  // namespace
 
-PackageReader PackageReader::open(const std::filesystem::path& file, const ReaderOptions& options) {
+ContainerReader ContainerReader::open(const std::filesystem::path& file, const ReaderOptions& options) {
     return validated(file, detail::MappedFile::open(file, options.memory_map), options);
 }
 
-PackageReader PackageReader::openMemory(std::span<const std::byte> bytes, MemoryOwnership ownership,
+ContainerReader ContainerReader::openMemory(std::span<const std::byte> bytes, MemoryOwnership ownership,
                                         const std::filesystem::path& name, const ReaderOptions& options) {
     return validated(name, detail::MappedFile::fromMemory(bytes, ownership, name), options);
 }
 
-PackageReader PackageReader::validated(std::filesystem::path name, detail::MappedFile held,
+ContainerReader ContainerReader::validated(std::filesystem::path name, detail::MappedFile held,
                                        const ReaderOptions& options) {
-    PackageReader reader;
+    ContainerReader reader;
     reader.file_ = std::move(name);
     reader.file_bytes_ = std::move(held);
     const std::filesystem::path& file = reader.file_;
@@ -185,7 +185,7 @@ PackageReader PackageReader::validated(std::filesystem::path name, detail::Mappe
     return reader;
 }
 
-const SectionInfo* PackageReader::find(uint32_t type, uint32_t frame) const {
+const SectionInfo* ContainerReader::find(uint32_t type, uint32_t frame) const {
     SectionInfo key;
     key.type = type;
     key.frame = frame;
@@ -196,7 +196,7 @@ const SectionInfo* PackageReader::find(uint32_t type, uint32_t frame) const {
     return &sections_[*found];
 }
 
-std::size_t PackageReader::indexOf(const SectionInfo& section, const char* operation) const {
+std::size_t ContainerReader::indexOf(const SectionInfo& section, const char* operation) const {
     // Only offsets that open() validated are ever used: a SectionInfo must be one of ours, or equal to one.
     if (!sections_.empty() && &section >= sections_.data() &&
         &section < sections_.data() + sections_.size()) {
@@ -211,7 +211,7 @@ std::size_t PackageReader::indexOf(const SectionInfo& section, const char* opera
     return static_cast<std::size_t>(ours - sections_.data());
 }
 
-std::span<const std::byte> PackageReader::verifiedStoredBytes(std::size_t index) const {
+std::span<const std::byte> ContainerReader::verifiedStoredBytes(std::size_t index) const {
     const SectionInfo& section = sections_[index];
     const std::span<const std::byte> stored =
         file_bytes_.bytes().subspan(section.offset, section.stored_size);
@@ -225,7 +225,7 @@ std::span<const std::byte> PackageReader::verifiedStoredBytes(std::size_t index)
     return stored;
 }
 
-std::vector<std::byte> PackageReader::read(const SectionInfo& section) const {
+std::vector<std::byte> ContainerReader::read(const SectionInfo& section) const {
     const std::size_t index = indexOf(section, "read");
     const SectionInfo& ours = sections_[index];
     const std::span<const std::byte> stored = verifiedStoredBytes(index);
@@ -246,7 +246,7 @@ SectionBuffer::~SectionBuffer() = default;
 SectionBuffer::SectionBuffer(SectionBuffer&&) noexcept = default;
 SectionBuffer& SectionBuffer::operator=(SectionBuffer&&) noexcept = default;
 
-std::span<const std::byte> PackageReader::read(const SectionInfo& section, SectionBuffer& buffer) const {
+std::span<const std::byte> ContainerReader::read(const SectionInfo& section, SectionBuffer& buffer) const {
     const std::size_t index = indexOf(section, "read");
     const SectionInfo& ours = sections_[index];
     const std::span<const std::byte> stored = verifiedStoredBytes(index);
@@ -257,11 +257,11 @@ std::span<const std::byte> PackageReader::read(const SectionInfo& section, Secti
     return {buffer.bytes_.data(), buffer.bytes_.size()};
 }
 
-std::span<const std::byte> PackageReader::stored(const SectionInfo& section) const {
+std::span<const std::byte> ContainerReader::stored(const SectionInfo& section) const {
     return verifiedStoredBytes(indexOf(section, "stored"));
 }
 
-std::span<const std::byte> PackageReader::mapped(const SectionInfo& section) const {
+std::span<const std::byte> ContainerReader::mapped(const SectionInfo& section) const {
     const std::size_t index = indexOf(section, "mapped");
     if (sections_[index].codec != Codec::Raw) {
         throw PackageError(ErrorCode::InvalidArgument, file_,
@@ -271,7 +271,7 @@ std::span<const std::byte> PackageReader::mapped(const SectionInfo& section) con
     return verifiedStoredBytes(index);
 }
 
-std::optional<std::string> PackageReader::metadata() const {
+std::optional<std::string> ContainerReader::metadata() const {
     const SectionInfo* section = find(kMetadataType, kNoFrame);
     if (section == nullptr) return std::nullopt;
     const std::vector<std::byte> bytes = read(*section);

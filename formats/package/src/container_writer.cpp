@@ -1,4 +1,4 @@
-#include "package/package_writer.h"
+#include "package/container_writer.h"
 
 #include <unistd.h>
 
@@ -35,7 +35,7 @@ std::span<const std::byte> bytesOf(const T& value) {
 
 }  // namespace
 
-struct PackageWriter::Impl {
+struct ContainerWriter::Impl {
     enum class State { Open, Failed, Committed };
 
     Impl(std::filesystem::path destination_path, const WriterOptions& writer_options)
@@ -101,7 +101,7 @@ struct PackageWriter::Impl {
     State state = State::Open;
 };
 
-PackageWriter::PackageWriter(std::filesystem::path destination, WriterOptions options)
+ContainerWriter::ContainerWriter(std::filesystem::path destination, WriterOptions options)
     : impl_(std::make_unique<Impl>(std::move(destination), options)) {
     Impl& writer = *impl_;
     try {
@@ -114,14 +114,14 @@ PackageWriter::PackageWriter(std::filesystem::path destination, WriterOptions op
     writer.writeAll(std::span(kZeros).first(sizeof(FileHeader)), "the header placeholder");
 }
 
-PackageWriter::~PackageWriter() = default;
-PackageWriter::PackageWriter(PackageWriter&&) noexcept = default;
-PackageWriter& PackageWriter::operator=(PackageWriter&&) noexcept = default;
+ContainerWriter::~ContainerWriter() = default;
+ContainerWriter::ContainerWriter(ContainerWriter&&) noexcept = default;
+ContainerWriter& ContainerWriter::operator=(ContainerWriter&&) noexcept = default;
 
-PackageWriter::Impl& PackageWriter::impl(const char* operation) const {
+ContainerWriter::Impl& ContainerWriter::impl(const char* operation) const {
     if (!impl_) {
         throw PackageError(ErrorCode::InvalidState, {},
-                           std::string(operation) + " on a moved-from PackageWriter");
+                           std::string(operation) + " on a moved-from ContainerWriter");
     }
     if (impl_->state != Impl::State::Open) {
         throw PackageError(
@@ -132,7 +132,7 @@ PackageWriter::Impl& PackageWriter::impl(const char* operation) const {
     return *impl_;
 }
 
-SectionInfo PackageWriter::addSection(uint32_t type, uint32_t frame, std::span<const std::byte> raw,
+SectionInfo ContainerWriter::addSection(uint32_t type, uint32_t frame, std::span<const std::byte> raw,
                                       Codec codec, bool required) {
     Impl& writer = impl("addSection");
     const std::string name = detail::sectionName(type, frame);
@@ -146,7 +146,7 @@ SectionInfo PackageWriter::addSection(uint32_t type, uint32_t frame, std::span<c
     return writer.append(type, frame, required ? kSectionRequired : 0u, codec, stored, raw.size(), name);
 }
 
-SectionInfo PackageWriter::addStoredSection(const SectionInfo& section, std::span<const std::byte> stored) {
+SectionInfo ContainerWriter::addStoredSection(const SectionInfo& section, std::span<const std::byte> stored) {
     Impl& writer = impl("addStoredSection");
     const std::string name = detail::sectionName(section.type, section.frame);
     if (section.codec != Codec::Raw && section.codec != Codec::Zstd) {
@@ -162,12 +162,12 @@ SectionInfo PackageWriter::addStoredSection(const SectionInfo& section, std::spa
     return writer.append(section.type, section.frame, section.flags, section.codec, stored, section.raw_size, name);
 }
 
-SectionInfo PackageWriter::addMetadata(std::string_view json) {
+SectionInfo ContainerWriter::addMetadata(std::string_view json) {
     return addSection(kMetadataType, kNoFrame, std::as_bytes(std::span(json.data(), json.size())),
                       Codec::Zstd, true);
 }
 
-void PackageWriter::commit() {
+void ContainerWriter::commit() {
     Impl& writer = impl("commit");
     const std::span<const std::byte> index_bytes = std::as_bytes(std::span(writer.index));
 
@@ -202,15 +202,15 @@ void PackageWriter::commit() {
     writer.state = Impl::State::Committed;
 }
 
-const std::filesystem::path& PackageWriter::destination() const {
+const std::filesystem::path& ContainerWriter::destination() const {
     if (!impl_)
-        throw PackageError(ErrorCode::InvalidState, {}, "destination() on a moved-from PackageWriter");
+        throw PackageError(ErrorCode::InvalidState, {}, "destination() on a moved-from ContainerWriter");
     return impl_->destination;
 }
 
-const std::filesystem::path& PackageWriter::temporaryPath() const {
+const std::filesystem::path& ContainerWriter::temporaryPath() const {
     if (!impl_)
-        throw PackageError(ErrorCode::InvalidState, {}, "temporaryPath() on a moved-from PackageWriter");
+        throw PackageError(ErrorCode::InvalidState, {}, "temporaryPath() on a moved-from ContainerWriter");
     return impl_->temporary;
 }
 
