@@ -16,6 +16,7 @@
 #include "cli/output_option.h"
 #include "cli/progress_bar.h"
 #include "cli/scene_options.h"
+#include "cli/storage_target_option.h"
 #include "cli/version.h"
 
 namespace firelook::cli {
@@ -69,8 +70,8 @@ void writeReportJson(const std::string& path, const bake::BakeReport& report) {
 
 void registerBakeCommand(CLI::App& app) {
     struct Args {
-        std::string sequence, output, frames, report_json, memory_budget, target_size;
-        double target_error = 0.0;
+        std::string sequence, output, frames, report_json, memory_budget;
+        StorageTargetFlags target;
         uint64_t seed = 1;
         int threads = 0;
         bool keep_axes = false, resume = false, fire_lights = false;
@@ -88,14 +89,12 @@ void registerBakeCommand(CLI::App& app) {
                     "most memory the bake may hold, e.g. 6G (binary units K, M, G, T); default 60% of the machine's "
                     "physical memory. Each frame's needs are estimated before it is traced: the scattered-light "
                     "cells are coarsened to fit, and a frame that cannot fit stops the bake with nothing written");
-    cmd->add_option("--target-size", args->target_size,
-                    "aim the whole sequence's package at this size, e.g. 6M (binary units): each frame gets an equal "
-                    "share and is stored at the finest precision that fits it (one factor on every error setting; "
-                    "the table and --report say what was chosen and the error it predicts)");
-    cmd->add_option("--target-error", args->target_error,
-                    "store each frame's basis within this relative error (SVD truncation and storage together, "
-                    "e.g. 0.003), in the fewest bytes; the depths for alpha keep their own bound")
-        ->excludes("--target-size");
+    addStorageTargetFlags(*cmd, args->target,
+                          "aim the whole sequence's package at this size, e.g. 6M (binary units): each frame gets an equal "
+                          "share and is stored at the finest precision that fits it (one factor on every error setting; "
+                          "the table and --report say what was chosen and the error it predicts)",
+                          "store each frame's basis within this relative error (SVD truncation and storage together, "
+                          "e.g. 0.003), in the fewest bytes; the depths for alpha keep their own bound");
     cmd->add_flag("--keep-axes", args->keep_axes,
                   "bake every sample of every look axis, even an axis whose samples cannot change any frame "
                   "(by default such an axis is baked at one sample and the bake says so)");
@@ -117,9 +116,7 @@ void registerBakeCommand(CLI::App& app) {
         if (!args->memory_budget.empty()) config.memory_budget_bytes = bake::parseByteSize(args->memory_budget);
         if (args->keep_axes) config.collapse_unused_axes = false;
         if (args->fire_lights) config.fire_lights = true;
-        if (!args->target_size.empty()) config.target = {.package_bytes = bake::parseByteSize(args->target_size)};
-        if (cmd->count("--target-error")) config.target = {.basis_error = args->target_error};
-        bake::checkStorageTarget(config.target);
+        config.target = storageTarget(*cmd, args->target);
         std::unique_ptr<tbb::global_control> threads;
         if (args->threads > 0)
             threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,

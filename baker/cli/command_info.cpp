@@ -193,6 +193,17 @@ void printPackage(const ordered_json& info) {
                     }
             std::printf("  %-22s %s%s\n", axis, bake["axes"][axis].dump().c_str(), collapsed.c_str());
         }
+        // Recorded only when the map is not the identity (bake/axis_derivation.h).
+        if (meta.contains("axis_derivation")) {
+            const ordered_json& d = meta["axis_derivation"];
+            std::string which;
+            for (const auto& [axis, derived] : d["derived"].items())
+                if (derived.get<bool>()) which += (which.empty() ? "" : ", ") + axis;
+            std::printf("  look axes from the data: temperatures x%g %+g, extinctions x%g; derived: %s "
+                        "(\"axis_derivation\" in --json)\n",
+                        d["temperature"]["scale"].get<double>(), d["temperature"]["offset"].get<double>(),
+                        d["extinction"]["scale"].get<double>(), which.empty() ? "none (all given)" : which.c_str());
+        }
         std::printf("  frames (frame:rank):");
         for (const ordered_json& f : bake["frames"]) std::printf(" %d:%d", f["frame"].get<int>(), f["rank"].get<int>());
         std::printf("\n");

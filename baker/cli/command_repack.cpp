@@ -16,6 +16,7 @@
 #include "cli/interrupt.h"
 #include "cli/output_option.h"
 #include "cli/progress_bar.h"
+#include "cli/storage_target_option.h"
 
 namespace firelook::cli {
 namespace {
@@ -51,8 +52,8 @@ bake::StoredFrameErrors storedFrameErrors(const nlohmann::ordered_json& meta, in
 
 void registerRepackCommand(CLI::App& app) {
     struct Args {
-        std::string input, output, target_size;
-        double target_error = 0.0;
+        std::string input, output;
+        StorageTargetFlags target;
         basis::FrameCodecSettings storage;
     };
     auto args = std::make_shared<Args>();
@@ -68,20 +69,15 @@ void registerRepackCommand(CLI::App& app) {
     cmd->add_option("--basis-error", args->storage.basis_error,
                     "Frobenius error that storing U and S V^T may add to the basis, relative to its norm")
         ->capture_default_str();
-    cmd->add_option("--target-size", args->target_size,
-                    "aim the package at this size, e.g. 6M (binary units), as `bake --target-size` does: each frame "
-                    "an equal share, at the finest precision that fits, by cutting rank and coarsening the storage of "
-                    "the stored frame; it cannot restore precision the package does not hold");
-    cmd->add_option("--target-error", args->target_error,
-                    "store each frame's basis within this relative error (the package's recorded truncation and "
-                    "storage errors included), in the fewest bytes, as `bake --target-error` does; only errors above "
-                    "what the package already holds can be met (rank only falls, precision only coarsens)")
-        ->excludes("--target-size");
+    addStorageTargetFlags(*cmd, args->target,
+                          "aim the package at this size, e.g. 6M (binary units), as `bake --target-size` does: each frame "
+                          "an equal share, at the finest precision that fits, by cutting rank and coarsening the storage of "
+                          "the stored frame; it cannot restore precision the package does not hold",
+                          "store each frame's basis within this relative error (the package's recorded truncation and "
+                          "storage errors included), in the fewest bytes, as `bake --target-error` does; only errors above "
+                          "what the package already holds can be met (rank only falls, precision only coarsens)");
     cmd->callback([cmd, args] {
-        bake::StorageTarget target;
-        if (!args->target_size.empty()) target = {.package_bytes = bake::parseByteSize(args->target_size)};
-        if (cmd->count("--target-error")) target = {.basis_error = args->target_error};
-        bake::checkStorageTarget(target);
+        const bake::StorageTarget target = storageTarget(*cmd, args->target);
         const basis::BasisReader in = basis::BasisReader::open(args->input);
         basis::BakeDescription d = in.description();
         nlohmann::ordered_json extra = nlohmann::ordered_json::parse(in.metadataJson());

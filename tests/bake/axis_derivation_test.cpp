@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../support/temp_dir.h"
+#include "package_images.h"
 #include "bake/bake_pipeline.h"
 #include "basis/basis_package.h"
 #include "basis/frame_factors.h"
@@ -93,27 +94,14 @@ BakeConfig derivedTinyConfig() {
 
 std::vector<float> renderDefaultLook(const std::filesystem::path& file, int frame) {
     const basis::BasisReader package = basis::BasisReader::open(file);
-    const basis::FrameFactors f = package.loadFrame(frame);
-    std::vector<float> rgba(static_cast<size_t>(package.description().pixelCount()) * 4);
-    basis::renderLookImage(package.description(), f, basis::decodeU(f),
-                           parseLook(package.description().default_look_json, "default"), rgba);
-    return rgba;
+    return test::renderFrame(package, frame, parseLook(package.description().default_look_json, "default"));
 }
 
-struct ImageDifference {
-    double relative_rmse = 0.0, worst_alpha = 0.0;
-};
-ImageDifference compare(const std::vector<float>& a, const std::vector<float>& b) {
-    double diff = 0.0, norm = 0.0, alpha = 0.0;
-    for (size_t i = 0; i < a.size(); i += 4) {
-        for (int ch = 0; ch < 3; ++ch) {
-            diff += double(a[i + ch] - b[i + ch]) * (a[i + ch] - b[i + ch]);
-            norm += double(b[i + ch]) * b[i + ch];
-        }
-        alpha = std::max(alpha, double(std::abs(a[i + 3] - b[i + 3])));
-    }
-    EXPECT_GT(norm, 0.0) << "an empty image proves nothing";
-    return {std::sqrt(diff / norm), alpha};
+// `image` against `reference` (package_images.h), which must not be empty.
+test::ImageDifference compare(const std::vector<float>& image, const std::vector<float>& reference) {
+    const test::ImageDifference d = test::compareImages(image, reference);
+    EXPECT_GT(d.reference_norm, 0.0) << "an empty image proves nothing";
+    return d;
 }
 
 // The sample's temperatures read as Kelvin (T_K = 1000 T + 300): the bins, axes, alpha thresholds
@@ -160,7 +148,7 @@ TEST(AxisDerivation, KelvinTemperaturesGiveTheAffineImage) {
     // Same physics in other units, same seed: the traces differ only by float rounding of the
     // temperatures (1000 T + 300 in float32 keeps ~7 digits), never by the seed's noise (measured
     // 1.1e-9 relative RMSE, alpha identical).
-    const ImageDifference d = compare(renderDefaultLook(dir / "b.firelook", 6), renderDefaultLook(dir / "a.firelook", 6));
+    const test::ImageDifference d = compare(renderDefaultLook(dir / "b.firelook", 6), renderDefaultLook(dir / "a.firelook", 6));
     std::printf("Kelvin vs unscaled default render: relative RMSE %.2e, worst alpha %.2e\n", d.relative_rmse,
                 d.worst_alpha);
     EXPECT_LT(d.relative_rmse, 1e-3);
@@ -193,7 +181,7 @@ TEST(AxisDerivation, DenserDataGetsProportionallySmallerExtinctions) {
     // alpha agrees to float rounding (measured 0); the colours to the tracer's photon noise, whose
     // emission photons are drawn from the absolute emission the density scales (measured 2.8e-3
     // relative RMSE with the tiny bake's 2000 photons; the bound leaves room for other platforms).
-    const ImageDifference d = compare(renderDefaultLook(dir / "b.firelook", 6), renderDefaultLook(dir / "a.firelook", 6));
+    const test::ImageDifference d = compare(renderDefaultLook(dir / "b.firelook", 6), renderDefaultLook(dir / "a.firelook", 6));
     std::printf("4x density vs unscaled default render: relative RMSE %.2e, worst alpha %.2e\n", d.relative_rmse,
                 d.worst_alpha);
     EXPECT_LT(d.relative_rmse, 1e-2);

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../support/temp_dir.h"
+#include "package_images.h"
 #include "tiny_sample_bake.h"
 #include "basis/basis_package.h"
 #include "basis/frame_factors.h"
@@ -223,13 +224,6 @@ BakeConfig smokeOnlyConfig() {
     return c;
 }
 
-std::vector<float> renderFrame(const basis::BasisReader& package, int frame, const Look& look) {
-    const basis::FrameFactors f = package.loadFrame(frame);
-    std::vector<float> rgba(static_cast<size_t>(package.description().pixelCount()) * 4);
-    basis::renderLookImage(package.description(), f, basis::decodeU(f), look, rgba);
-    return rgba;
-}
-
 // An axis that cannot change the frames is baked at one sample: 1/6 of the T_c columns (and k_f
 // goes too: below every T_c the flame share is ~0), with the images of a full-axis bake of the
 // same data for looks anywhere on (and off) the axes.
@@ -278,20 +272,13 @@ TEST(BakePipeline, AxisThatCannotChangeAFrameCollapses) {
                 look.temperature_threshold = tc;
                 look.smoke_extinction = ks;
                 look.flame_extinction = kf;
-                const std::vector<float> a = renderFrame(c, 12, look), b = renderFrame(f, 12, look);
-                double diff = 0.0, norm = 0.0, alpha = 0.0;
-                for (size_t i = 0; i < a.size(); i += 4) {
-                    for (int ch = 0; ch < 3; ++ch) {
-                        diff += double(a[i + ch] - b[i + ch]) * (a[i + ch] - b[i + ch]);
-                        norm += double(b[i + ch]) * b[i + ch];
-                    }
-                    alpha = std::max(alpha, double(std::abs(a[i + 3] - b[i + 3])));
-                }
-                ASSERT_GT(norm, 0.0);
-                worst_rgb = std::max(worst_rgb, std::sqrt(diff / norm));
-                worst_alpha = std::max(worst_alpha, alpha);
-                EXPECT_LT(std::sqrt(diff / norm), 1e-4) << "T_c " << tc << " k_s " << ks << " k_f " << kf;
-                EXPECT_LT(alpha, 1e-3) << "T_c " << tc << " k_s " << ks << " k_f " << kf;
+                const std::vector<float> a = test::renderFrame(c, 12, look), b = test::renderFrame(f, 12, look);
+                const test::ImageDifference d = test::compareImages(a, b);
+                ASSERT_GT(d.reference_norm, 0.0);
+                worst_rgb = std::max(worst_rgb, d.relative_rmse);
+                worst_alpha = std::max(worst_alpha, d.worst_alpha);
+                EXPECT_LT(d.relative_rmse, 1e-4) << "T_c " << tc << " k_s " << ks << " k_f " << kf;
+                EXPECT_LT(d.worst_alpha, 1e-3) << "T_c " << tc << " k_s " << ks << " k_f " << kf;
             }
     std::printf("collapsed vs full axes over 45 looks: worst relative RMSE %.2e, worst alpha %.2e\n", worst_rgb,
                 worst_alpha);

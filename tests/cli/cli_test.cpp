@@ -279,6 +279,24 @@ TEST(Cli, MergedShardsEqualTheOneShotBake) {
 
 // info --json lists each frame's input file with its XXH3-64 (the hash `xxhsum -H3` prints) and the
 // settings' hash: the same for shards of one bake, another for other settings.
+// A density read 4x denser (bake.json "density_scale") scales the extinctions by 1/4
+// (bake/axis_derivation.h); info says so, and which axes were derived rather than given.
+TEST(Cli, InfoShowsTheAxisDerivation) {
+    TempDir dir;
+    json config = json::parse(firelook::testing::kTinyBakeConfig);
+    config["density_scale"] = 4.0;
+    config["axes"].erase("smoke_extinction");
+    std::ofstream(dir / "bake.json") << config.dump();
+    ASSERT_EQ(runFirelook(dir, "bake '" + kSample + "' --size 16x16 --up z --frames 6 --config bake.json -o d.firelook")
+                  .exit_code,
+              0);
+    const CommandResult r = runFirelook(dir, "info d.firelook");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("look axes from the data: temperatures x1 +0, extinctions x0.25; derived: smoke_extinction "),
+              std::string::npos)
+        << r.out;
+}
+
 TEST(Cli, InfoShowsWhatEachFrameWasBakedFrom) {
     TempDir dir;
     writeTinyConfig(dir);
