@@ -20,7 +20,8 @@ command -v clang++ >/dev/null || { echo "fuzz.sh: clang++ not found (scripts/set
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   -DCMAKE_C_FLAGS=-fsanitize=fuzzer-no-link -DCMAKE_CXX_FLAGS=-fsanitize=fuzzer-no-link \
-  -DFIRELOOK_SANITIZE=ON -DFIRELOOK_BUILD_FUZZERS=ON -DFIRELOOK_WERROR=OFF >/dev/null
+  -DFIRELOOK_SANITIZE=ON -DFIRELOOK_BUILD_FUZZERS=ON -DFIRELOOK_WERROR=OFF \
+  -DCMAKE_UNITY_BUILD=ON >/dev/null  # as scripts/build.sh: headers parsed once a batch of files
 cmake --build "$build" -j "${FUZZ_JOBS:-2}" --target "${targets[@]/#/fuzz_}"
 
 run="$(mktemp -d "${TMPDIR:-/tmp}/firelook-fuzz-run.XXXXXX")"

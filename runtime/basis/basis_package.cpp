@@ -30,8 +30,6 @@ std::vector<T> readArray(const package::ContainerReader& reader, uint32_t type, 
 }  // namespace
 
 namespace {
-// Layout 1 stored optical depths as half floats; this is the largest finite one.
-constexpr float kLargestDepth = 65504.0f;
 float finiteOr(float v, float fallback) { return std::isfinite(v) ? v : fallback; }
 
 const package::SectionInfo& frameSection(const package::ContainerReader& reader, uint32_t type, int frame) {

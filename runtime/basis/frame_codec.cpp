@@ -14,9 +14,6 @@
 namespace firelook::basis {
 namespace {
 
-// Depths decode to at most this (the largest half, as packages of layout 1 stored): every
-// transmittance exp(-k * 65504) is 0 in float for k above 0.0016.
-constexpr double kLargestDepth = 65504.0;
 // Payload version: 3 leaves out the items that are all zero (most pixels lie outside the fire's
 // footprint), so neither zstd nor the decoder spends time on them; 2 stored every item's codes
 // together (a pixel's rank values, a ray's depth planes), so the decoder undoes the prediction of
@@ -422,7 +419,7 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
         // Per ray: O_b (NaN: opaque, as layout 1 did) and the smoke parts S_j = O_b - F_j.
         auto rayDepths = [&](int s, size_t p, double* smoke) {
             const double density = factors.depth_b[static_cast<size_t>(s) * pixels + p];
-            const double d = std::isnan(density) ? kLargestDepth : std::clamp(density, 0.0, kLargestDepth);
+            const double d = std::isnan(density) ? kLargestDepth : std::clamp(density, 0.0, double(kLargestDepth));
             for (size_t j = 0; j < thresholds; ++j) {
                 const double o_a = factors.depth_a[(static_cast<size_t>(s) * thresholds + j) * pixels + p];
                 smoke[j] = d - (std::isfinite(o_a) ? std::clamp(0.5 * (o_a + d), 0.0, d) : 0.0);
@@ -520,7 +517,7 @@ std::shared_ptr<const DepthTable> DepthTable::build(double step, double k_lo, do
     const int levels = static_cast<int>(depthLevels(g, step)) + 1;
     table->depth.resize(levels);
     for (int q = 0; q < levels; ++q)
-        table->depth[q] = static_cast<float>(std::min(kLargestDepth, g.inverse(q * step)));
+        table->depth[q] = static_cast<float>(std::min(double(kLargestDepth), g.inverse(q * step)));
     return table;
 }
 

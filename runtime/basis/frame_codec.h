@@ -28,6 +28,10 @@
 
 namespace firelook::basis {
 
+// Optical depths decode to at most this, the largest finite half (layout 1 stored depths as
+// halves): every transmittance exp(-k * 65504) is 0 in float for k above 0.0016.
+inline constexpr float kLargestDepth = 65504.0f;
+
 struct FrameCodecSettings {
     // Largest alpha error the stored depths may add, per pixel and for any look in the axes'
     // range (on top of the footprint quadrature).

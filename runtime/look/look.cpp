@@ -11,11 +11,8 @@
 namespace firelook {
 namespace {
 
+using detail::indexedKey;
 using detail::throwLookError;
-
-std::string indexed(std::string_view key, size_t index) {
-    return std::string(key) + "[" + std::to_string(index) + "]";
-}
 
 void checkNonNegative(const Look& look, std::string_view key, double value) {
     if (!std::isfinite(value)) throwLookError(look.source_name, key, "must be a finite number");
@@ -92,11 +89,11 @@ void validateLook(const Look& look) {
     if (const auto* bins = std::get_if<EmissionBins>(&look.emission)) {
         if (bins->emissivity.empty()) throwLookError(look.source_name, "emission.bins", "must not be empty");
         for (size_t i = 0; i < bins->emissivity.size(); ++i)
-            checkColor(look, indexed("emission.bins", i), bins->emissivity[i]);
+            checkColor(look, indexedKey("emission.bins", i), bins->emissivity[i]);
     } else if (const auto* stops = std::get_if<EmissionStops>(&look.emission)) {
         if (stops->stops.empty()) throwLookError(look.source_name, "emission.stops", "must not be empty");
         for (size_t i = 0; i < stops->stops.size(); ++i) {
-            const std::string key = indexed("emission.stops", i);
+            const std::string key = indexedKey("emission.stops", i);
             const double t = stops->stops[i].temperature;
             if (!std::isfinite(t)) throwLookError(look.source_name, key, "temperature must be finite");
             if (i > 0 && t < stops->stops[i - 1].temperature)
@@ -113,7 +110,7 @@ void validateLook(const Look& look) {
     }
 
     for (size_t i = 0; i < look.light_irradiance.size(); ++i)
-        checkColor(look, indexed("light_irradiance", i), look.light_irradiance[i]);
+        checkColor(look, indexedKey("light_irradiance", i), look.light_irradiance[i]);
 }
 
 std::vector<Rgb> resolveBinEmissivity(const Look& look, const TemperatureBins& bins) {

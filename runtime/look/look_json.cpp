@@ -13,15 +13,12 @@
 namespace firelook {
 namespace {
 
+using detail::indexedKey;
 using detail::throwLookError;
 using Json = nlohmann::json;
 
 constexpr std::string_view kFormatTag = "firelook-look";
 constexpr int kVersion = 1;  // bump when a reader of this version would misread a file
-
-std::string indexed(std::string_view key, size_t index) {
-    return std::string(key) + "[" + std::to_string(index) + "]";
-}
 
 const char* typeName(const Json& value) { return value.type_name(); }
 
@@ -81,7 +78,7 @@ EmissionSpec readEmission(const Json& emission, const std::string& source) {
         const Json& list = requireArray(emission, "bins", source, "emission.bins");
         for (size_t i = 0; i < list.size(); ++i)
             bins.emissivity.push_back(
-                toRgb(readNumberArray(list[i], 3, source, indexed("emission.bins", i), "[r, g, b]"), 0));
+                toRgb(readNumberArray(list[i], 3, source, indexedKey("emission.bins", i), "[r, g, b]"), 0));
         return bins;
     }
     if (emission.contains("stops")) {
@@ -89,7 +86,7 @@ EmissionSpec readEmission(const Json& emission, const std::string& source) {
         const Json& list = requireArray(emission, "stops", source, "emission.stops");
         for (size_t i = 0; i < list.size(); ++i) {
             const std::vector<double> numbers =
-                readNumberArray(list[i], 4, source, indexed("emission.stops", i), "[T, r, g, b]");
+                readNumberArray(list[i], 4, source, indexedKey("emission.stops", i), "[T, r, g, b]");
             stops.stops.push_back({numbers[0], toRgb(numbers, 1)});
         }
         return stops;
@@ -162,7 +159,7 @@ Look parseLook(std::string_view text, const std::string& source_name) {
     const Json& lights = requireArray(root, "light_irradiance", source_name, "light_irradiance");
     for (size_t i = 0; i < lights.size(); ++i)
         look.light_irradiance.push_back(toRgb(
-            readNumberArray(lights[i], 3, source_name, indexed("light_irradiance", i), "[r, g, b]"), 0));
+            readNumberArray(lights[i], 3, source_name, indexedKey("light_irradiance", i), "[r, g, b]"), 0));
 
     validateLook(look);
     return look;

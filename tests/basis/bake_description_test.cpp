@@ -25,7 +25,7 @@ BakeDescription sampleDescription() {
     return d;
 }
 
-std::string errorOf(const std::string& text, const std::string& source) {
+std::string descriptionErrorOf(const std::string& text, const std::string& source) {
     try {
         parseBakeDescription(text, source);
     } catch (const std::runtime_error& e) {
@@ -79,43 +79,43 @@ TEST(BakeDescription, ParseErrorsNameTheSource) {
     const std::string good = bakeDescriptionToJson(sampleDescription());
     const std::string source = "/some/where/pkg.firelook";
 
-    std::string e = errorOf("{ not json", source);
+    std::string e = descriptionErrorOf("{ not json", source);
     EXPECT_EQ(e.rfind(source, 0), 0u) << e;
 
     nlohmann::json j = nlohmann::json::parse(good);
     j.erase("albedo");
-    e = errorOf(j.dump(), source);
+    e = descriptionErrorOf(j.dump(), source);
     EXPECT_EQ(e.rfind(source, 0), 0u) << e;
     EXPECT_NE(e.find("albedo"), std::string::npos) << e;
 
     j = nlohmann::json::parse(good);
     j["axes"]["smoke_extinction"] = {8.0, 2.0};
-    e = errorOf(j.dump(), source);
+    e = descriptionErrorOf(j.dump(), source);
     EXPECT_EQ(e.rfind(source, 0), 0u) << e;
     EXPECT_NE(e.find("smoke_extinction"), std::string::npos) << e;
 
     j = nlohmann::json::parse(good);
     j["temperature_bins"]["count"] = 0;
-    e = errorOf(j.dump(), source);
+    e = descriptionErrorOf(j.dump(), source);
     EXPECT_NE(e.find("bins"), std::string::npos) << e;
 
     j = nlohmann::json::parse(good);
     j["temperature_bins"]["t_hi"] = j["temperature_bins"]["t_lo"];
-    EXPECT_NE(errorOf(j.dump(), source).find(source), std::string::npos);
+    EXPECT_NE(descriptionErrorOf(j.dump(), source).find(source), std::string::npos);
 
     j = nlohmann::json::parse(good);
     j["width"] = 0;
-    e = errorOf(j.dump(), source);
+    e = descriptionErrorOf(j.dump(), source);
     EXPECT_NE(e.find("size"), std::string::npos) << e;
 
     j = nlohmann::json::parse(good);
     j["alpha_thresholds"] = nlohmann::json::array();
-    e = errorOf(j.dump(), source);
+    e = descriptionErrorOf(j.dump(), source);
     EXPECT_NE(e.find("alpha"), std::string::npos) << e;
 
     j = nlohmann::json::parse(good);
     j["frames"] = "three";
-    EXPECT_EQ(errorOf(j.dump(), source).rfind(source, 0), 0u);
+    EXPECT_EQ(descriptionErrorOf(j.dump(), source).rfind(source, 0), 0u);
 }
 
 }  // namespace

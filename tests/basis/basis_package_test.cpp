@@ -22,7 +22,7 @@ namespace {
 
 using firelook::testing::TempDir;
 
-BakeDescription description() {
+BakeDescription packageDescription() {
     BakeDescription d;
     d.bins = {0.0, 3.0, 2};
     d.albedo = 0.7;
@@ -67,7 +67,7 @@ void writePackage(const std::filesystem::path& file, BakeDescription d,
     writer.commit();
 }
 
-std::string errorOf(const std::function<void()>& f) {
+std::string packageErrorOf(const std::function<void()>& f) {
     try {
         f();
     } catch (const std::exception& e) {
@@ -79,7 +79,7 @@ std::string errorOf(const std::function<void()>& f) {
 // The factors as the codec stores them; alpha within what the codec reports for the frame.
 TEST(BasisReader, FactorsRoundTrip) {
     TempDir dir;
-    const BakeDescription d = description();
+    const BakeDescription d = packageDescription();
     const std::vector<FrameFactors> frames = {factors(d, 1, 3), factors(d, 4, 1), factors(d, 7, 0)};
     writePackage(dir / "a.firelook", d, frames);
 
@@ -134,7 +134,7 @@ TEST(BasisReader, ReadsLayout1) {
 // the transmittance is 0 for any extinction above 0.0016 either way, so alpha is 1.
 TEST(BasisReader, HugeOpticalDepthsStayFinite) {
     TempDir dir;
-    const BakeDescription d = description();
+    const BakeDescription d = packageDescription();
     FrameFactors f = factors(d, 1, 1);
     for (size_t i = 0; i < f.depth_b.size(); ++i) f.depth_b[i] = i % 2 ? 1e30f : 7e4f;
     for (size_t i = 0; i < f.depth_a.size(); ++i) {
@@ -150,21 +150,21 @@ TEST(BasisReader, HugeOpticalDepthsStayFinite) {
 
 TEST(BasisReader, MissingFrameNamesTheFile) {
     TempDir dir;
-    const BakeDescription d = description();
+    const BakeDescription d = packageDescription();
     writePackage(dir / "a.firelook", d, {factors(d, 1, 2)});
     const BasisReader package = BasisReader::open(dir / "a.firelook");
-    const std::string e = errorOf([&] { package.loadFrame(2); });
+    const std::string e = packageErrorOf([&] { package.loadFrame(2); });
     EXPECT_NE(e.find((dir / "a.firelook").string()), std::string::npos) << e;
     EXPECT_NE(e.find("frame 2"), std::string::npos) << e;
 }
 
 TEST(BasisReader, WrongSectionSizeNamesTheFileAndSection) {
     TempDir dir;
-    BakeDescription d = description();
+    BakeDescription d = packageDescription();
     d.frames = {{1, 3}};  // the description claims rank 3, the factors hold rank 2
     writePackage(dir / "a.firelook", d, {factors(d, 1, 2)});
     const BasisReader package = BasisReader::open(dir / "a.firelook");
-    const std::string e = errorOf([&] { package.loadFrame(1); });
+    const std::string e = packageErrorOf([&] { package.loadFrame(1); });
     EXPECT_NE(e.find((dir / "a.firelook").string()), std::string::npos) << e;
     EXPECT_NE(e.find("UFAC"), std::string::npos) << e;
 }
@@ -173,7 +173,7 @@ TEST(BasisReader, WrongSectionSizeNamesTheFileAndSection) {
 // was not a whole number of depth images; every size is now checked before anything is written.
 TEST(BasisReader, InconsistentFactorsAreRefusedByTheWriter) {
     TempDir dir;
-    const BakeDescription d = description();
+    const BakeDescription d = packageDescription();
     FrameFactors f = factors(d, 1, 2);
     f.depth_a.pop_back();
     package::ContainerWriter writer(dir / "a.firelook");
@@ -185,7 +185,7 @@ TEST(BasisReader, InconsistentFactorsAreRefusedByTheWriter) {
 
 TEST(BasisReader, MissingSectionNamesTheFileAndSection) {
     TempDir dir;
-    BakeDescription d = description();
+    BakeDescription d = packageDescription();
     d.frames = {{1, 2}};
     {
         package::ContainerWriter writer(dir / "a.firelook");
@@ -194,7 +194,7 @@ TEST(BasisReader, MissingSectionNamesTheFileAndSection) {
         writer.addMetadata(makeMetadata(d, ""));
         writer.commit();
     }
-    const std::string e = errorOf([&] { BasisReader::open(dir / "a.firelook").loadFrame(1); });
+    const std::string e = packageErrorOf([&] { BasisReader::open(dir / "a.firelook").loadFrame(1); });
     EXPECT_NE(e.find((dir / "a.firelook").string()), std::string::npos) << e;
     EXPECT_NE(e.find("SVTF"), std::string::npos) << e;
 }
@@ -207,7 +207,7 @@ TEST(BasisReader, BadMetadataNamesTheFile) {
         writer.addSection(kSectionU, 1, {});
         writer.commit();
     }
-    std::string e = errorOf([&] { BasisReader::open(path); });
+    std::string e = packageErrorOf([&] { BasisReader::open(path); });
     EXPECT_NE(e.find(path.string()), std::string::npos) << e;
     EXPECT_NE(e.find("metadata"), std::string::npos) << e;
 
@@ -216,26 +216,26 @@ TEST(BasisReader, BadMetadataNamesTheFile) {
         writer.addMetadata(R"({"format": "something-else", "bake": {}})");
         writer.commit();
     }
-    e = errorOf([&] { BasisReader::open(path); });
+    e = packageErrorOf([&] { BasisReader::open(path); });
     EXPECT_NE(e.find(path.string()), std::string::npos) << e;
     EXPECT_NE(e.find("firelook-basis"), std::string::npos) << e;
 
     {
         package::ContainerWriter writer(path);
-        BakeDescription d = description();
+        BakeDescription d = packageDescription();
         d.width = 0;
         writer.addMetadata(makeMetadata(d, ""));
         writer.commit();
     }
-    e = errorOf([&] { BasisReader::open(path); });
+    e = packageErrorOf([&] { BasisReader::open(path); });
     EXPECT_NE(e.find(path.string()), std::string::npos) << e;
 
-    e = errorOf([&] { BasisReader::open(dir / "missing.firelook"); });
+    e = packageErrorOf([&] { BasisReader::open(dir / "missing.firelook"); });
     EXPECT_NE(e.find("missing.firelook"), std::string::npos) << e;
 }
 
 TEST(BasisReader, MetadataExtraMembersSitBesideBake) {
-    const std::string meta = makeMetadata(description(), R"({"errors": [1, 2], "camera": {"source": "x"}})");
+    const std::string meta = makeMetadata(packageDescription(), R"({"errors": [1, 2], "camera": {"source": "x"}})");
     const nlohmann::json doc = nlohmann::json::parse(meta);
     EXPECT_EQ(doc.at("format"), "firelook-basis");
     EXPECT_EQ(doc.at("version"), kBasisLayoutVersion);

@@ -12,7 +12,7 @@
 
 namespace firelook::basis {
 
-inline BakeDescription description(int width, int height, int samples) {
+inline BakeDescription codecDescription(int width, int height, int samples) {
     BakeDescription d;
     d.bins = {0.0, 3.0, 3};
     d.axes = {{1.0, 1.5, 2.0}, {2.0, 4.0, 16.0}, {0.5, 4.0}};

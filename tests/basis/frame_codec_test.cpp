@@ -49,7 +49,7 @@ TEST(DepthCompanding, InverseAndSlopeBound) {
 TEST(FrameCodec, AlphaWithinTheBoundForAnyLook) {
     for (const int samples : {1, 4, 9, 6})  // 6: not a square, stored as stacked images
     for (const double footprint_error : {0.0, 0.001}) {
-        const BakeDescription d = description(13, 7, samples);
+        const BakeDescription d = codecDescription(13, 7, samples);
         const FrameFactors original = factors(d, 4, 11 + samples);
         FrameCodecSettings settings;
         settings.alpha_error = 0.002;
@@ -79,7 +79,7 @@ TEST(FrameCodec, AlphaWithinTheBoundForAnyLook) {
 // U: every value of W = U S within half a grid step (plus the half rounding of the decoded U);
 // S V^T within half of its own step; the measured Frobenius errors near their targets.
 TEST(FrameCodec, UOnItsGridAndSvtExact) {
-    const BakeDescription d = description(32, 24, 1);
+    const BakeDescription d = codecDescription(32, 24, 1);
     const FrameFactors original = factors(d, 6, 5);
     FrameCodecSettings settings;
     settings.basis_error = 0.001;
@@ -105,7 +105,7 @@ TEST(FrameCodec, UOnItsGridAndSvtExact) {
 }
 
 TEST(FrameCodec, SameBytesAndDamageRefused) {
-    const BakeDescription d = description(9, 5, 4);
+    const BakeDescription d = codecDescription(9, 5, 4);
     const FrameFactors f = factors(d, 3, 2);
     const EncodedFrame a = encodeFrame(d, f, {}), b = encodeFrame(d, f, {});
     EXPECT_EQ(a.u, b.u);
@@ -138,7 +138,7 @@ TEST(FrameCodec, SameBytesAndDamageRefused) {
 // A bound finer than 2^15 levels can give is not promised: the codec takes its finest grid and
 // reports the bound that grid gives, which the alpha of every pixel still keeps.
 TEST(FrameCodec, ReportsTheBoundItCanKeep) {
-    BakeDescription d = description(6, 5, 4);
+    BakeDescription d = codecDescription(6, 5, 4);
     d.axes.smoke_extinction = {0.0, 2.0};  // k_s = 0 beside k_f = 4
     const FrameFactors original = factors(d, 1, 3);
     FrameCodecSettings tight;

@@ -14,12 +14,12 @@ namespace firelook::basis {
 namespace {
 
 constexpr int kBins = 3;
-constexpr int kLights = 1;
-constexpr int kPerPoint = kBins + kLights;
+constexpr int kLightCount = 1;
+constexpr int kPerPoint = kBins + kLightCount;
 
 // 3 bins, one light, T_c in {1, 2}, k_s collapsed at 1, k_f in {1, 3}: 4 grid points, 16 columns.
 // A 4x4 image, so that pixels == columns and U can be the identity.
-BakeDescription description() {
+BakeDescription recombineDescription() {
     BakeDescription d;
     d.bins = {0.0, 3.0, kBins};
     d.albedo = 0.5;
@@ -62,7 +62,7 @@ FrameFactors identityFactors(const BakeDescription& d) {
 const std::vector<Rgb> kCoefficients = {{1.0f, 2.0f, 3.0f}, {0.5f, 0.0f, 0.25f}, {2.0f, 1.0f, 0.0f}};
 const std::vector<Rgb> kIrradiance = {{0.3f, 0.6f, 0.9f}};
 
-std::vector<float> coefficients(const BakeDescription& d, const FrameFactors& f,
+std::vector<float> recombineCoefficients(const BakeDescription& d, const FrameFactors& f,
                                 const ExtinctionParams& theta, const std::vector<Rgb>& c,
                                 const std::vector<Rgb>& e) {
     std::vector<float> z(static_cast<size_t>(f.rank) * 3);
@@ -74,7 +74,7 @@ std::vector<float> coefficients(const BakeDescription& d, const FrameFactors& f,
 constexpr double kFloatSumTolerance = 1e-5;
 
 TEST(Recombine, ImageIsTheHandComputedWeightedSum) {
-    const BakeDescription d = description();
+    const BakeDescription d = recombineDescription();
     const FrameFactors f = identityFactors(d);
     // T_c = 1.25 is a quarter of the way from 1 to 2; k_f = 2 halfway from 1 to 3.
     const ExtinctionParams theta{1.25, 1.0, 2.0};
@@ -86,7 +86,7 @@ TEST(Recombine, ImageIsTheHandComputedWeightedSum) {
                                {d.axes.pointIndex(0, 0, 1), 0.75 * 0.5},
                                {d.axes.pointIndex(1, 0, 0), 0.25 * 0.5},
                                {d.axes.pointIndex(1, 0, 1), 0.25 * 0.5}};
-    const std::vector<float> z = coefficients(d, f, theta, kCoefficients, kIrradiance);
+    const std::vector<float> z = recombineCoefficients(d, f, theta, kCoefficients, kIrradiance);
     std::vector<float> rgba(static_cast<size_t>(f.pixels) * 4);
     reconstructImage(d, f, decodeU(f), z, theta, rgba);
     for (int p = 0; p < f.pixels; ++p) {
@@ -106,7 +106,7 @@ TEST(Recombine, ImageIsTheHandComputedWeightedSum) {
 }
 
 TEST(Recombine, CoefficientsAreLinearInEmissionAndIrradiance) {
-    const BakeDescription d = description();
+    const BakeDescription d = recombineDescription();
     const FrameFactors f = identityFactors(d);
     const ExtinctionParams theta{1.7, 1.0, 1.4};
     const std::vector<Rgb> c1 = kCoefficients;
@@ -116,12 +116,12 @@ TEST(Recombine, CoefficientsAreLinearInEmissionAndIrradiance) {
     const std::vector<Rgb> no_light = {Rgb(0.0f)};
     const std::vector<Rgb> no_emission(kBins, Rgb(0.0f));
 
-    const std::vector<float> z1 = coefficients(d, f, theta, c1, no_light);
-    const std::vector<float> z2 = coefficients(d, f, theta, c2, no_light);
-    const std::vector<float> z_sum = coefficients(d, f, theta, c_sum, no_light);
-    const std::vector<float> z_light = coefficients(d, f, theta, no_emission, kIrradiance);
-    const std::vector<float> z_light3 = coefficients(d, f, theta, no_emission, {3.0f * kIrradiance[0]});
-    const std::vector<float> z_all = coefficients(d, f, theta, c1, kIrradiance);
+    const std::vector<float> z1 = recombineCoefficients(d, f, theta, c1, no_light);
+    const std::vector<float> z2 = recombineCoefficients(d, f, theta, c2, no_light);
+    const std::vector<float> z_sum = recombineCoefficients(d, f, theta, c_sum, no_light);
+    const std::vector<float> z_light = recombineCoefficients(d, f, theta, no_emission, kIrradiance);
+    const std::vector<float> z_light3 = recombineCoefficients(d, f, theta, no_emission, {3.0f * kIrradiance[0]});
+    const std::vector<float> z_all = recombineCoefficients(d, f, theta, c1, kIrradiance);
     for (size_t k = 0; k < z1.size(); ++k) {
         const double lin = z1[k] + 2.0 * z2[k];
         EXPECT_NEAR(z_sum[k], lin, kFloatSumTolerance * std::abs(lin) + 1e-7) << k;
@@ -131,7 +131,7 @@ TEST(Recombine, CoefficientsAreLinearInEmissionAndIrradiance) {
 }
 
 TEST(Recombine, ArgumentCountsAreChecked) {
-    const BakeDescription d = description();
+    const BakeDescription d = recombineDescription();
     const FrameFactors f = identityFactors(d);
     std::vector<float> z(static_cast<size_t>(f.rank) * 3);
     const ExtinctionParams theta{1.0, 1.0, 1.0};
@@ -159,7 +159,7 @@ TEST(Recombine, ArgumentCountsAreChecked) {
 }
 
 TEST(Recombine, NegativeAndNonFiniteRadianceBecomesZero) {
-    const BakeDescription d = description();
+    const BakeDescription d = recombineDescription();
     FrameFactors f = identityFactors(d);
     std::vector<float> u = decodeU(f);
     u[static_cast<size_t>(3) * f.rank + 3] = std::numeric_limits<float>::infinity();
@@ -169,7 +169,7 @@ TEST(Recombine, NegativeAndNonFiniteRadianceBecomesZero) {
     f.depth_b[8] = 1e30f;
     f.depth_b[9] = std::numeric_limits<float>::infinity();
     const ExtinctionParams theta{1.5, 1.0, 2.0};
-    const std::vector<float> z = coefficients(d, f, theta, kCoefficients, kIrradiance);
+    const std::vector<float> z = recombineCoefficients(d, f, theta, kCoefficients, kIrradiance);
     std::vector<float> rgba(static_cast<size_t>(f.pixels) * 4);
     reconstructImage(d, f, u, z, theta, rgba);
     for (size_t i = 0; i < rgba.size(); ++i) {
@@ -187,14 +187,14 @@ TEST(Recombine, NegativeAndNonFiniteRadianceBecomesZero) {
     // All-negative S V^T: every pixel clamps to black.
     FrameFactors negative = identityFactors(d);
     for (float& v : negative.svt) v = -v;
-    const std::vector<float> zn = coefficients(d, negative, theta, kCoefficients, kIrradiance);
+    const std::vector<float> zn = recombineCoefficients(d, negative, theta, kCoefficients, kIrradiance);
     reconstructImage(d, negative, decodeU(negative), zn, theta, rgba);
     for (int p = 0; p < negative.pixels; ++p)
         for (int ch = 0; ch < 3; ++ch) EXPECT_EQ(rgba[p * 4 + ch], 0.0f);
 }
 
 TEST(Recombine, PixelAlphaInterpolatesOpticalDepthInThreshold) {
-    const BakeDescription d = description();
+    const BakeDescription d = recombineDescription();
     const FrameFactors f = identityFactors(d);
     std::vector<float> rgba(static_cast<size_t>(f.pixels) * 4);
     for (const ExtinctionParams& theta :
@@ -204,7 +204,7 @@ TEST(Recombine, PixelAlphaInterpolatesOpticalDepthInThreshold) {
         const double tc = std::clamp(theta.temperature_threshold, 1.0, 2.0);
         const int lower = tc >= 1.5 ? 1 : 0;
         const double t = std::min((tc - d.alpha_thresholds[lower]) / 0.5, 1.0);
-        const std::vector<float> z = coefficients(d, f, theta, kCoefficients, kIrradiance);
+        const std::vector<float> z = recombineCoefficients(d, f, theta, kCoefficients, kIrradiance);
         reconstructImage(d, f, decodeU(f), z, theta, rgba);
         for (int p = 0; p < f.pixels; ++p) {
             const double o_a = (1.0 - t) * f.depth_a[lower * f.pixels + p] +
@@ -219,7 +219,7 @@ TEST(Recombine, PixelAlphaInterpolatesOpticalDepthInThreshold) {
 }
 
 TEST(Recombine, RankZeroIsBlackWithAlphaFromDepths) {
-    const BakeDescription d = description();
+    const BakeDescription d = recombineDescription();
     FrameFactors f = identityFactors(d);
     f.rank = 0;
     f.u_half.clear();
@@ -236,7 +236,7 @@ TEST(Recombine, RankZeroIsBlackWithAlphaFromDepths) {
 }
 
 TEST(Recombine, AlphaIsTheMeanOverFootprintRays) {
-    BakeDescription d = description();
+    BakeDescription d = recombineDescription();
     d.footprint_samples = 2;
     FrameFactors f = identityFactors(d);
     // Ray 0 keeps the depths above; ray 1 is clear (alpha 0) for even pixels and opaque for odd ones.
@@ -246,10 +246,10 @@ TEST(Recombine, AlphaIsTheMeanOverFootprintRays) {
     }
     f.depth_a.resize(2 * thresholds * pixels, 0.0f);
     const ExtinctionParams theta{1.25, 2.0, 0.5};
-    BakeDescription single = description();
+    BakeDescription single = recombineDescription();
     FrameFactors first_ray = identityFactors(single);
     std::vector<float> rgba(pixels * 4);
-    const std::vector<float> z = coefficients(d, f, theta, kCoefficients, kIrradiance);
+    const std::vector<float> z = recombineCoefficients(d, f, theta, kCoefficients, kIrradiance);
     reconstructImage(d, f, decodeU(f), z, theta, rgba);
     for (int p = 0; p < f.pixels; ++p) {
         const double expected = 0.5 * pixelAlpha(single, first_ray, p, theta) + (p % 2 == 0 ? 0.0 : 0.5);

@@ -38,7 +38,7 @@ ResidentFrame decode(const BakeDescription& d, const EncodedFrame& e, int rank) 
     return decodeResidentFrame(d, 3, rank, e.u, e.svt, e.depths, "test", std::pmr::get_default_resource(), nullptr);
 }
 
-std::vector<float> coefficients(const BakeDescription& d, const ResidentFrame& f, const ExtinctionParams& e) {
+std::vector<float> residentCoefficients(const BakeDescription& d, const ResidentFrame& f, const ExtinctionParams& e) {
     const std::vector<Rgb> rbf = {{1.0f, 0.5f, 0.2f}, {0.3f, 2.0f, 0.1f}, {0.0f, 0.4f, 1.5f}};
     const std::vector<Rgb> lights = {{0.7f, 0.7f, 0.9f}};
     std::vector<float> z(static_cast<size_t>(f.rank) * 3);
@@ -48,7 +48,7 @@ std::vector<float> coefficients(const BakeDescription& d, const ResidentFrame& f
 
 TEST(ResidentFrame, ReconstructsAsTheExpandedFrame) {
     for (const int samples : {1, 4, 9, 6}) {
-        const BakeDescription d = description(13, 7, samples);
+        const BakeDescription d = codecDescription(13, 7, samples);
         const int rank = 11;  // two 8-lane blocks, the second partial
         const EncodedFrame encoded = encodeFrame(d, mixedFactors(d, rank, 5 + samples), {});
         const ResidentFrame resident = decode(d, encoded, rank);
@@ -60,7 +60,7 @@ TEST(ResidentFrame, ReconstructsAsTheExpandedFrame) {
         const std::vector<float> u = decodeU(expanded);
         for (const ExtinctionParams e : {ExtinctionParams{1.1f, 3.0f, 1.7f}, ExtinctionParams{2.0f, 16.0f, 0.5f},
                                          ExtinctionParams{0.5f, 2.0f, 4.0f}, ExtinctionParams{1.6f, 5.0f, 2.0f}}) {
-            const std::vector<float> z = coefficients(d, resident, e);
+            const std::vector<float> z = residentCoefficients(d, resident, e);
             std::vector<float> a(size_t(d.pixelCount()) * 4), b(a.size());
             reconstructImage(d, resident, z, e, a);
             reconstructImage(d, expanded, u, z, e, b);
@@ -84,7 +84,7 @@ TEST(ResidentFrame, ReconstructsAsTheExpandedFrame) {
 
 // tests/data/basis/codec1_frames.bin and codec2_frames.bin hold the three payloads the encoders of
 // codec versions 1 (plane after plane) and 2 (each item's codes together, as two byte planes)
-// wrote for factors(description(13, 7, S), 4, 11 + S) at alpha_error 0.002, footprint_error
+// wrote for factors(codecDescription(13, 7, S), 4, 11 + S) at alpha_error 0.002, footprint_error
 // 0.001, for S = 9 and 6: u32 S, u32 rank, then each payload as u32 size and bytes. The
 // quantisation is unchanged since, so today's payloads of the same factors must decode to
 // exactly the same values.
@@ -118,7 +118,7 @@ void expectOldPayloadsDecode(const char* name, uint32_t version) {
         ASSERT_LE(at, file.size());
         EXPECT_EQ(versionOf(u), version) << name;
         EXPECT_EQ(versionOf(depths), version) << name;
-        const BakeDescription d = description(13, 7, samples);
+        const BakeDescription d = codecDescription(13, 7, samples);
         FrameCodecSettings settings;
         settings.alpha_error = 0.002;
         settings.footprint_error = 0.001;
@@ -145,7 +145,7 @@ TEST(ResidentFrame, DecodesCodec1Payloads) { expectOldPayloadsDecode("codec1_fra
 TEST(ResidentFrame, DecodesCodec2Payloads) { expectOldPayloadsDecode("codec2_frames.bin", 2); }
 
 TEST(ResidentFrame, AReusedFrameDecodesLikeAFreshOne) {
-    const BakeDescription d = description(16, 9, 4);
+    const BakeDescription d = codecDescription(16, 9, 4);
     const EncodedFrame big = encodeFrame(d, mixedFactors(d, 13, 1), {});
     const EncodedFrame small = encodeFrame(d, mixedFactors(d, 5, 2), {});
     ResidentFrame reused = decode(d, big, 13);
@@ -166,8 +166,8 @@ TEST(ResidentFrame, AReusedFrameDecodesLikeAFreshOne) {
                            fresh.detailed_depth.end()));
     const ExtinctionParams e{1.3f, 4.0f, 2.0f};
     std::vector<float> a(size_t(d.pixelCount()) * 4), b(a.size());
-    reconstructImage(d, reused, coefficients(d, reused, e), e, a);
-    reconstructImage(d, fresh, coefficients(d, fresh, e), e, b);
+    reconstructImage(d, reused, residentCoefficients(d, reused, e), e, a);
+    reconstructImage(d, fresh, residentCoefficients(d, fresh, e), e, b);
     EXPECT_EQ(a, b);
 }
 
@@ -191,7 +191,7 @@ FrameFactors discFactors(const BakeDescription& d, int rank, uint32_t seed, doub
 // Version 3 codes only the occupied pixels (a W row or a mean ray not all 0); the others decode
 // to 0 even over a frame that held values there, and the frame reconstructs as its expansion.
 TEST(ResidentFrame, EmptyPixelsAreLeftOutAndDecodeToZero) {
-    const BakeDescription d = description(23, 17, 4);
+    const BakeDescription d = codecDescription(23, 17, 4);
     const int rank = 9;
     const EncodedFrame full = encodeFrame(d, mixedFactors(d, rank, 3), {});
     for (const double radius : {0.0, 2.0, 6.5, 100.0}) {
@@ -245,7 +245,7 @@ TEST(ResidentFrame, EmptyPixelsAreLeftOutAndDecodeToZero) {
         const FrameFactors expanded = expandFrame(d, f);
         const ExtinctionParams e{1.3f, 4.0f, 2.0f};
         std::vector<float> a(size_t(d.pixelCount()) * 4), b(a.size());
-        const std::vector<float> z = coefficients(d, f, e);
+        const std::vector<float> z = residentCoefficients(d, f, e);
         reconstructImage(d, f, z, e, a);
         reconstructImage(d, expanded, decodeU(expanded), z, e, b);
         for (int p = 0; p < d.pixelCount(); ++p) {
@@ -263,7 +263,7 @@ TEST(ResidentFrame, EmptyPixelsAreLeftOutAndDecodeToZero) {
 // half a step of the original U, which is half-rounded), zero where U is 0, the padding 0, and
 // S V^T (the same kernels, its columns as items) within half of its step.
 TEST(ResidentFrame, EveryStrideDecodesToTheGrid) {
-    const BakeDescription d = description(19, 6, 4);
+    const BakeDescription d = codecDescription(19, 6, 4);
     for (const int rank : {1, 8, 9, 16, 17, 24, 31, 40, 47, 56, 63, 64, 65, 72, 80}) {
         const FrameFactors original = discFactors(d, rank, 40 + rank, 5.0);
         const EncodedFrame encoded = encodeFrame(d, original, {});
@@ -290,7 +290,7 @@ TEST(ResidentFrame, EveryStrideDecodesToTheGrid) {
 }
 
 TEST(ResidentFrame, DamageIsRefusedByName) {
-    const BakeDescription d = description(8, 5, 4);
+    const BakeDescription d = codecDescription(8, 5, 4);
     const EncodedFrame e = encodeFrame(d, mixedFactors(d, 3, 9), {});
     auto failure = [&](std::vector<std::byte> u, std::vector<std::byte> depths) {
         try {

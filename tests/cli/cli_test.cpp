@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "../support/command.h"
+#include "../support/sample.h"
 #include "../support/temp_dir.h"
 #include "../support/tiny_bake_config.h"
 
@@ -36,7 +37,7 @@ void expectOneLineError(const CommandResult& r, const std::string& mentions) {
     EXPECT_NE(err.back().find(mentions), std::string::npos) << "expected '" << mentions << "' in: " << r.err;
 }
 
-const std::string kSample = FIRELOOK_SAMPLE_DIR;
+using firelook::testing::kSample;
 
 // Tiny bake settings (../support/tiny_bake_config.h).
 void writeTinyConfig(const TempDir& dir) { std::ofstream(dir / "bake.json") << kTinyBakeConfig; }

@@ -38,7 +38,7 @@ std::vector<std::string> warnings(const CommandResult& r) {
     return out;
 }
 
-void expectOneLineError(const CommandResult& r, const std::string& mentions) {
+void expectExitOneWithOneErrorLine(const CommandResult& r, const std::string& mentions) {
     EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
     int error_lines = 0;
     for (const std::string& line : lines(r.err)) error_lines += line.rfind("firelook: error:", 0) == 0;
@@ -104,7 +104,7 @@ TEST(CliDataChecks, InfoWarnsAboutCleanedValuesAndShowsThem) {
     EXPECT_EQ(warnings(r).size(), 2u) << "the warnings go to stderr with --json too";
 
     r = runFirelook(dir, "info seq --strict");
-    expectOneLineError(r, "seq/fire_0001.vdb: density: 2 NaN, 1 Inf, 1 negative values; temperature: 0 NaN, 1 Inf "
+    expectExitOneWithOneErrorLine(r, "seq/fire_0001.vdb: density: 2 NaN, 1 Inf, 1 negative values; temperature: 0 NaN, 1 Inf "
                           "values (refused by --strict");
 }
 
@@ -129,7 +129,7 @@ TEST(CliDataChecks, ReferenceWarnsOncePerFrameAndGridAndStrictRefuses) {
     EXPECT_TRUE(fs::exists(dir / "a.exr"));
 
     r = runFirelook(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out b.exr --strict");
-    expectOneLineError(r, "refused by --strict");
+    expectExitOneWithOneErrorLine(r, "refused by --strict");
     EXPECT_FALSE(fs::exists(dir / "b.exr"));
 }
 
@@ -139,9 +139,9 @@ TEST(CliDataChecks, ImplausibleValuesAreRefusedUnlessClamped) {
     density[7].second = 1e30f;  // voxel (0, 1, 1)
     writeFrame(dir / "seq", 1, density, ramp());
     CommandResult r = runFirelook(dir, "info seq");
-    expectOneLineError(r, "seq/fire_0001.vdb: density: value 1e+30 at voxel (0, 1, 1) is beyond any plausible density");
+    expectExitOneWithOneErrorLine(r, "seq/fire_0001.vdb: density: value 1e+30 at voxel (0, 1, 1) is beyond any plausible density");
     r = runFirelook(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out a.exr");
-    expectOneLineError(r, "density: value 1e+30");
+    expectExitOneWithOneErrorLine(r, "density: value 1e+30");
     EXPECT_FALSE(fs::exists(dir / "a.exr"));
 
     r = runFirelook(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out a.exr --clamp-extreme");
@@ -156,13 +156,13 @@ TEST(CliDataChecks, ImplausibleValuesAreRefusedUnlessClamped) {
     temperature[3].second = -2e9f;
     writeFrame(hot / "seq", 1, block(1.0f), temperature);
     r = runFirelook(hot, "info seq");
-    expectOneLineError(r, "seq/fire_0001.vdb: temperature: value -2e+09 at voxel (0, 0, 3)");
+    expectExitOneWithOneErrorLine(r, "seq/fire_0001.vdb: temperature: value -2e+09 at voxel (0, 0, 3)");
     r = runFirelook(hot, "info seq --clamp-extreme");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(warnings(r),
               std::vector<std::string>{"seq/fire_0001.vdb: temperature: 1 value beyond +-1e+06 clamped to +-1e+06"});
     r = runFirelook(hot, "info seq --clamp-extreme --strict");
-    expectOneLineError(r, "temperature: 1 value beyond +-1e+06 (refused by --strict");
+    expectExitOneWithOneErrorLine(r, "temperature: 1 value beyond +-1e+06 (refused by --strict");
 }
 
 TEST(CliDataChecks, GapsAreReportedByEveryCommandAndRefusedUnderStrict) {
@@ -174,13 +174,13 @@ TEST(CliDataChecks, GapsAreReportedByEveryCommandAndRefusedUnderStrict) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(warnings(r), std::vector<std::string>{"seq: frame 3 missing"});
     EXPECT_THAT(r.out, HasSubstr("missing frames: [3]"));
-    expectOneLineError(runFirelook(dir, "info seq --strict"), "seq: frame 3 missing (refused by --strict)");
+    expectExitOneWithOneErrorLine(runFirelook(dir, "info seq --strict"), "seq: frame 3 missing (refused by --strict)");
 
     r = runFirelook(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out a.exr");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(warnings(r), std::vector<std::string>{"seq: frame 3 missing"});
     r = runFirelook(dir, "reference seq --frame 1 --size 8x8 --spp 1 --out b.exr --strict");
-    expectOneLineError(r, "frame 3 missing (refused by --strict)");
+    expectExitOneWithOneErrorLine(r, "frame 3 missing (refused by --strict)");
     EXPECT_FALSE(fs::exists(dir / "b.exr"));
 
     // bake --frames 1-3 names a frame that is not there.
@@ -190,7 +190,7 @@ TEST(CliDataChecks, GapsAreReportedByEveryCommandAndRefusedUnderStrict) {
         << r.err;
     ASSERT_TRUE(fs::exists(dir / "pkg.firelook"));
     r = runFirelook(dir, "bake seq -o strict.firelook --frames 1-3 --size 8x8 --config bake.json --strict");
-    expectOneLineError(r, "frame 3 missing (refused by --strict)");
+    expectExitOneWithOneErrorLine(r, "frame 3 missing (refused by --strict)");
     EXPECT_FALSE(fs::exists(dir / "strict.firelook"));
 
     // bench reads the sequence too.
@@ -198,7 +198,7 @@ TEST(CliDataChecks, GapsAreReportedByEveryCommandAndRefusedUnderStrict) {
     r = runFirelook(dir, bench);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(warnings(r), std::vector<std::string>{"seq: frame 3 missing"});
-    expectOneLineError(runFirelook(dir, bench + " --strict"), "frame 3 missing (refused by --strict)");
+    expectExitOneWithOneErrorLine(runFirelook(dir, bench + " --strict"), "frame 3 missing (refused by --strict)");
 }
 
 TEST(CliDataChecks, ASelectionPastTheEndWarnsWithoutAGap) {

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "../support/command.h"
+#include "../support/sample.h"
 #include "../support/temp_dir.h"
 #include "../support/tiny_bake_config.h"
 
@@ -32,7 +33,7 @@ namespace {
 using namespace firelook::testing;  // TempDir, runFirelook, readFile, lines, kTinyBakeConfig
 using Clock = std::chrono::steady_clock;
 
-const std::string kSample = FIRELOOK_SAMPLE_DIR;
+using firelook::testing::kSample;
 constexpr double kStopDeadlineSeconds = 1.5;
 
 struct Outcome {

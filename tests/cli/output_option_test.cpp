@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "../support/command.h"
+#include "../support/sample.h"
 #include "../support/temp_dir.h"
 #include "../support/tiny_bake_config.h"
 
@@ -21,7 +22,7 @@ namespace {
 
 using namespace firelook::testing;  // TempDir, runIn, runFirelook, kTinyBakeConfig
 
-const std::string kSample = FIRELOOK_SAMPLE_DIR;
+using firelook::testing::kSample;
 
 struct Writer {
     std::string command;  // `firelook` arguments, run in a folder inside the suite's; the output

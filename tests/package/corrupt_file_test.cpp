@@ -17,7 +17,7 @@ namespace {
 using test::asBytes;
 using test::expectPackageError;
 
-constexpr uint32_t kFactors = makeFourCC('F', 'A', 'C', 'T');
+using test::kFactors;
 constexpr uint32_t kNewFeature = makeFourCC('N', 'E', 'W', 'X');
 
 // A small package with every kind of section: zstd metadata, raw and zstd data, an empty one.

@@ -20,7 +20,7 @@ namespace {
 using test::asBytes;
 
 const std::filesystem::path kGoldenDir = std::filesystem::path(FIRELOOK_TEST_DATA_DIR) / "package";
-constexpr uint32_t kFactors = makeFourCC('F', 'A', 'C', 'T');
+using test::kFactors;
 constexpr uint32_t kOptional = makeFourCC('O', 'P', 'T', 'L');
 constexpr std::string_view kRawMetadata = R"({"tool":"firelook golden","version":1})";
 constexpr std::string_view kZstdMetadata = R"({"tool":"firelook golden","codec":"zstd"})";

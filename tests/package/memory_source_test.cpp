@@ -19,7 +19,7 @@ namespace {
 using test::asBytes;
 using Ownership = ContainerReader::MemoryOwnership;
 
-constexpr uint32_t kFactors = makeFourCC('F', 'A', 'C', 'T');
+using test::kFactors;
 const std::filesystem::path kName = "engine.pak:fire/explosion.firelook";
 
 class MemorySource : public ::testing::Test {

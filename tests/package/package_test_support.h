@@ -22,6 +22,9 @@ namespace firelook::package::test {
 
 using firelook::testing::TempDir;
 
+// The section type the tests write their factors under.
+inline constexpr uint32_t kFactors = makeFourCC('F', 'A', 'C', 'T');
+
 std::vector<std::byte> readFile(const std::filesystem::path& file);
 void writeFile(const std::filesystem::path& file, std::span<const std::byte> bytes);
 

@@ -17,7 +17,7 @@ using test::asBytes;
 using test::smoothFloats;
 using test::TempDir;
 
-constexpr uint32_t kFactors = makeFourCC('F', 'A', 'C', 'T');
+using test::kFactors;
 constexpr uint32_t kEmpty = makeFourCC('E', 'M', 'P', 'T');
 
 std::vector<std::byte> bytesOf(std::string_view text) {

@@ -15,7 +15,7 @@ namespace {
 using test::asBytes;
 using test::TempDir;
 
-constexpr uint32_t kFactors = makeFourCC('F', 'A', 'C', 'T');
+using test::kFactors;
 
 void writeSample(const std::filesystem::path& path, WriterOptions options = {}) {
     ContainerWriter writer(path, options);

@@ -20,16 +20,13 @@
 
 #include "render/camera.h"
 #include "render/medium.h"
+#include "render_test_support.h"
 
 namespace firelook::render {
 namespace {
 
-// A camera 10 units up +Z looking at a 2-unit box at the origin through a 2-degree field of view:
-// every ray crosses the box through its z faces.
-Camera narrowCamera(int size) {
-    return Camera::lookAt({0.0, 0.0, 10.0}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, 2.0 * std::numbers::pi / 180.0,
-                          size, size);
-}
+// Every ray of narrowCamera (render_test_support.h) crosses a 2-unit box at the origin through its z faces.
+using test::narrowCamera;
 
 // The exact alpha of a pixel of the unit box: mean over the n x n rays of 1 - exp(-kappa * 2 / |d_z|).
 double boxAlpha(const Camera& camera, int px, int py, int n, double kappa) {
@@ -41,16 +38,16 @@ double boxAlpha(const Camera& camera, int px, int py, int n, double kappa) {
     return sum / (n * n);
 }
 
-const TemperatureBins kBins{0.0, 1.0, 4};
+const TemperatureBins kFourBins{0.0, 1.0, 4};
 
 TEST(FootprintTransmittance, HomogeneousBoxMatchesClosedForm) {
     const Medium box = Medium::homogeneousBox(glm::dvec3(2.0), glm::ivec3(8), 1.0f, 0.5f);
     const Camera camera = narrowCamera(6);
-    const FootprintTransmittance exact(box, camera, kBins, 3);
+    const FootprintTransmittance exact(box, camera, kFourBins, 3);
     EXPECT_EQ(exact.raysPerPixel(), 9);
     for (const ExtinctionParams e : {ExtinctionParams{0.5, 0.7, 0.7}, ExtinctionParams{0.3, 0.2, 2.5},
                                      ExtinctionParams{0.8, 3.0, 0.1}}) {
-        const double kappa = extinctionPerDensity(0.5, e, kBins);
+        const double kappa = extinctionPerDensity(0.5, e, kFourBins);
         const std::vector<float> alpha = exact.alpha(e);
         ASSERT_EQ(alpha.size(), 36u);
         for (int py = 0; py < 6; ++py)
@@ -62,11 +59,11 @@ TEST(FootprintTransmittance, HomogeneousBoxMatchesClosedForm) {
 
 TEST(FootprintTransmittance, EmptyMediumAndMissedRaysGiveZero) {
     const Camera camera = narrowCamera(4);
-    EXPECT_EQ(FootprintTransmittance(Medium(), camera, kBins, 2).alpha({0.5, 4.0, 4.0}), std::vector<float>(16, 0.0f));
+    EXPECT_EQ(FootprintTransmittance(Medium(), camera, kFourBins, 2).alpha({0.5, 4.0, 4.0}), std::vector<float>(16, 0.0f));
     // Looking away from the box: no ray meets it.
     const Medium box = Medium::homogeneousBox(glm::dvec3(2.0), glm::ivec3(8), 1.0f, 0.5f);
     const Camera away = Camera::lookAt({0.0, 0.0, 10.0}, {0.0, 0.0, 20.0}, {0.0, 1.0, 0.0}, 0.1, 4, 4);
-    EXPECT_EQ(FootprintTransmittance(box, away, kBins, 2).alpha({0.5, 4.0, 4.0}), std::vector<float>(16, 0.0f));
+    EXPECT_EQ(FootprintTransmittance(box, away, kFourBins, 2).alpha({0.5, 4.0, 4.0}), std::vector<float>(16, 0.0f));
 }
 
 TEST(FootprintTransmittance, SameResultForAnyThreadCount) {
@@ -74,8 +71,8 @@ TEST(FootprintTransmittance, SameResultForAnyThreadCount) {
     const Camera camera = Camera::lookAt({3.0, 2.0, 6.0}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, 0.6, 12, 12);
     const ExtinctionParams e{0.4, 1.5, 3.0};
     std::vector<float> one, many;
-    tbb::task_arena(1).execute([&] { one = FootprintTransmittance(box, camera, kBins, 2).alpha(e); });
-    many = FootprintTransmittance(box, camera, kBins, 2).alpha(e);
+    tbb::task_arena(1).execute([&] { one = FootprintTransmittance(box, camera, kFourBins, 2).alpha(e); });
+    many = FootprintTransmittance(box, camera, kFourBins, 2).alpha(e);
     EXPECT_EQ(one, many);
     double total = 0.0;
     for (float a : one) {

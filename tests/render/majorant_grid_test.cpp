@@ -67,18 +67,18 @@ std::vector<TentativeCollision> tentativeCollisions(
 }
 
 // k_s > k_f and a threshold inside the data: kappa varies strongly across bricks (and with T).
-const TemperatureBins kBins{0.0, 1.0, 8};
+const TemperatureBins kEightBins{0.0, 1.0, 8};
 const ExtinctionParams kVaryingExtinction{0.4, 9.0, 0.5};
 
 TEST(MajorantGrid, BoundsExtinctionAtEveryTentativeCollision) {
     const Medium medium = sparseMedium();
-    const MajorantGrid grid(medium, kVaryingExtinction, kBins, 0.0);
+    const MajorantGrid grid(medium, kVaryingExtinction, kEightBins, 0.0);
     std::mt19937 gen(3);
     int collisions = 0;
     for (int r = 0; r < 300; ++r)
         for (const TentativeCollision& c : tentativeCollisions(grid, gen)) {
             const MediumSample s = medium.sampleIndex(c.index_point);
-            ASSERT_LE(s.density * extinctionPerDensity(s.temperature, kVaryingExtinction, kBins), c.majorant);
+            ASSERT_LE(s.density * extinctionPerDensity(s.temperature, kVaryingExtinction, kEightBins), c.majorant);
             ++collisions;
         }
     EXPECT_GT(collisions, 1000);  // the test exercised the tracker
@@ -161,7 +161,7 @@ Medium spikyMedium() {
 
 TEST(MajorantGrid, RefinedBricksBoundExtinctionAndInterpolateExactly) {
     const Medium medium = spikyMedium();
-    const MajorantGrid grid(medium, kVaryingExtinction, kBins, 0.0);
+    const MajorantGrid grid(medium, kVaryingExtinction, kEightBins, 0.0);
     std::mt19937 gen(13);
     int collisions = 0, refined = 0;
     double largest = 0.0;
@@ -171,7 +171,7 @@ TEST(MajorantGrid, RefinedBricksBoundExtinctionAndInterpolateExactly) {
             ASSERT_GE(c.distance, last);
             last = c.distance;
             const double sigma =
-                c.sample.density * extinctionPerDensity(c.sample.temperature, kVaryingExtinction, kBins);
+                c.sample.density * extinctionPerDensity(c.sample.temperature, kVaryingExtinction, kEightBins);
             ASSERT_LE(sigma, c.majorant);
             // The tracker's values are the trilinear interpolant at the collision.
             const MediumSample s = medium.sampleIndex(c.index_point);
@@ -199,14 +199,14 @@ TEST(MajorantGrid, RefiningEveryBrickOrNoneGivesTheExactTransmittance) {
     std::exponential_distribution<double> exp1(1.0);
     int refined_rays = 0;
     for (const double refine : {0.0, std::numeric_limits<double>::infinity()}) {
-        const MajorantGrid grid(medium, kVaryingExtinction, kBins, 0.0, refine);
+        const MajorantGrid grid(medium, kVaryingExtinction, kEightBins, 0.0, refine);
         for (int r = 0; r < 12; ++r) {
             const Ray ray = randomRayThrough(medium, gen);
             double tau = 0.0;
             constexpr double kDs = 2e-4;
             for (double s = 0.5 * kDs; s < 20.0; s += kDs) {
                 const MediumSample m = medium.sampleWorld(ray.origin + s * ray.direction);
-                tau += m.density * extinctionPerDensity(m.temperature, kVaryingExtinction, kBins) * kDs;
+                tau += m.density * extinctionPerDensity(m.temperature, kVaryingExtinction, kEightBins) * kDs;
             }
             constexpr int kCount = 4000;
             double sum = 0.0, sum2 = 0.0;
@@ -217,7 +217,7 @@ TEST(MajorantGrid, RefiningEveryBrickOrNoneGivesTheExactTransmittance) {
                 double weight = 1.0;
                 while (tracker.advance(exp1(gen), c)) {
                     const double sigma =
-                        c.sample.density * extinctionPerDensity(c.sample.temperature, kVaryingExtinction, kBins);
+                        c.sample.density * extinctionPerDensity(c.sample.temperature, kVaryingExtinction, kEightBins);
                     ASSERT_LE(sigma, c.majorant);
                     weight *= 1.0 - sigma / c.majorant;
                     any_refined = any_refined || c.majorant < 0.99 * brickMajorantAt(grid, tracker.worldPoint(c.distance));

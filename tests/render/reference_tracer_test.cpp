@@ -102,10 +102,7 @@ bool allFinite(const RenderImage& image) {
 // A camera 10 units up the +Z axis looking at the origin through a 2-degree field of view: its
 // rays cross a 2-unit box centred on the origin well inside its faces (|x|, |y| < 0.3 < 0.875,
 // where the ramps of the faces begin).
-Camera narrowCamera(int size = 8) {
-    return Camera::lookAt({0.0, 0.0, 10.0}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, 2.0 * std::numbers::pi / 180.0,
-                          size, size);
-}
+using test::narrowCamera;
 
 // Path length of a narrowCamera ray inside the box [-1, 1]^3 (it enters and leaves through the z faces).
 double pathInBox(const Ray& ray) { return 2.0 / std::abs(ray.direction.z); }

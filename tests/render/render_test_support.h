@@ -2,8 +2,10 @@
 #pragma once
 
 #include <glm/vec3.hpp>
+#include <numbers>
 
 #include "look/look_model.h"
+#include "render/camera.h"
 
 namespace firelook::render::test {
 
@@ -18,6 +20,13 @@ inline LookModel makeLook(double smoke_extinction, double flame_extinction, doub
     look.emission.basis.bins = look.bins;
     look.emission.coefficients.assign(4, emission);
     return look;
+}
+
+// Looks down -Z at the origin from z = 10 with a 2 degree field of view: every ray of the square
+// image crosses the box [-1, 1]^3 through its z faces, nearly parallel.
+inline Camera narrowCamera(int size = 8) {
+    return Camera::lookAt({0.0, 0.0, 10.0}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, 2.0 * std::numbers::pi / 180.0,
+                          size, size);
 }
 
 }  // namespace firelook::render::test

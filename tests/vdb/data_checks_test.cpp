@@ -26,13 +26,13 @@ ReadOptions collecting(std::vector<std::string>& lines, ReadOptions options = {}
     return options;
 }
 
-void writeFrame(const std::filesystem::path& file, const Voxels& density, const Voxels& temperature) {
+void writeGridFrame(const std::filesystem::path& file, const Voxels& density, const Voxels& temperature) {
     writeVdb(file, {makeGrid("density", density), makeGrid("temperature", temperature)});
 }
 
 // Density: 2 NaN, 1 Inf, 3 negative and a good voxel; temperature: 1 NaN, 2 Inf (one -Inf).
-void writeDirtyFrame(const std::filesystem::path& file) {
-    writeFrame(file,
+void writeDirtyGridFrame(const std::filesystem::path& file) {
+    writeGridFrame(file,
                {{{0, 0, 0}, kNaN},
                 {{1, 0, 0}, kNaN},
                 {{2, 0, 0}, kInf},
@@ -45,7 +45,7 @@ void writeDirtyFrame(const std::filesystem::path& file) {
 
 TEST(DataChecks, CleanedValuesAreCountedPerGridAndReportedOnePerLine) {
     TempDir dir;
-    writeDirtyFrame(dir / "f_1.vdb");
+    writeDirtyGridFrame(dir / "f_1.vdb");
     std::vector<std::string> warnings;
     const VolumeFrame frame = VdbSequence::open(dir.path().string(), collecting(warnings)).load(1);
     EXPECT_EQ(frame.density_cleaned.nan, 2u);
@@ -65,8 +65,8 @@ TEST(DataChecks, CleanedValuesAreCountedPerGridAndReportedOnePerLine) {
 
 TEST(DataChecks, ACleanFrameReportsNothing) {
     TempDir dir;
-    writeFrame(dir / "f_1.vdb", kDensity, kTemperature);
-    writeFrame(dir / "f_2.vdb", kDensity, kTemperature);
+    writeGridFrame(dir / "f_1.vdb", kDensity, kTemperature);
+    writeGridFrame(dir / "f_2.vdb", kDensity, kTemperature);
     std::vector<std::string> warnings;
     const VdbSequence sequence = VdbSequence::open(dir.path().string(), collecting(warnings));
     const VolumeFrame frame = sequence.load(1);
@@ -78,7 +78,7 @@ TEST(DataChecks, ACleanFrameReportsNothing) {
 
 TEST(DataChecks, ExtremeDensityIsRefusedNamingTheFileTheGridAndTheValue) {
     TempDir dir;
-    writeFrame(dir / "f_1.vdb", {{{0, 0, 0}, 0.5f}, {{4, -2, 7}, 1e30f}, {{5, 0, 0}, 2e7f}}, kTemperature);
+    writeGridFrame(dir / "f_1.vdb", {{{0, 0, 0}, 0.5f}, {{4, -2, 7}, 1e30f}, {{5, 0, 0}, 2e7f}}, kTemperature);
     const std::string error = errorOf([&] { VdbSequence::open(dir.path().string()).load(1); });
     EXPECT_THAT(error, HasSubstr((dir / "f_1.vdb").string() + ": density: value 1e+30 at voxel (4, -2, 7)"));
     EXPECT_THAT(error, HasSubstr("above 1e+06"));
@@ -89,7 +89,7 @@ TEST(DataChecks, ExtremeDensityIsRefusedNamingTheFileTheGridAndTheValue) {
 
 TEST(DataChecks, TheBoundItselfIsPlausible) {
     TempDir dir;
-    writeFrame(dir / "f_1.vdb", {{{0, 0, 0}, 1e6f}},
+    writeGridFrame(dir / "f_1.vdb", {{{0, 0, 0}, 1e6f}},
                {{{0, 0, 0}, static_cast<float>(kMaxPlausibleTemperature)}, {{1, 0, 0}, -1e6f}});
     std::vector<std::string> warnings;
     const VolumeFrame frame = VdbSequence::open(dir.path().string(), collecting(warnings)).load(1);
@@ -99,14 +99,14 @@ TEST(DataChecks, TheBoundItselfIsPlausible) {
 
 TEST(DataChecks, ExtremeTemperatureIsRefusedAfterTheMapping) {
     TempDir dir;
-    writeFrame(dir / "f_1.vdb", kDensity, {{{0, 0, 0}, 300.0f}, {{1, 1, 1}, -3e7f}});
+    writeGridFrame(dir / "f_1.vdb", kDensity, {{{0, 0, 0}, 300.0f}, {{1, 1, 1}, -3e7f}});
     std::string error = errorOf([&] { VdbSequence::open(dir.path().string()).load(1); });
     EXPECT_THAT(error, HasSubstr("f_1.vdb: temperature: value -3e+07 at voxel (1, 1, 1)"));
     EXPECT_THAT(error, HasSubstr("|T| above 1e+06 in the data's units"));
 
     // 3000 (raw) is fine; the same data in millikelvin scaled by 1e4 is not.
     TempDir scaled;
-    writeFrame(scaled / "f_1.vdb", kDensity, {{{0, 0, 0}, 300.0f}, {{2, 0, 0}, 3000.0f}});
+    writeGridFrame(scaled / "f_1.vdb", kDensity, {{{0, 0, 0}, 300.0f}, {{2, 0, 0}, 3000.0f}});
     EXPECT_EQ(errorOf([&] { VdbSequence::open(scaled.path().string()).load(1); }), "no error");
     error = errorOf([&] { VdbSequence::open(scaled.path().string(), {.temperature_scale = 1e4}).load(1); });
     EXPECT_THAT(error, HasSubstr("temperature: value 3e+07 at voxel (2, 0, 0)"));
@@ -114,7 +114,7 @@ TEST(DataChecks, ExtremeTemperatureIsRefusedAfterTheMapping) {
 
 TEST(DataChecks, ClampExtremeClampsAndReportsLikeCleaning) {
     TempDir dir;
-    writeFrame(dir / "f_1.vdb", {{{0, 0, 0}, 0.5f}, {{1, 0, 0}, 1e30f}, {{2, 0, 0}, kNaN}},
+    writeGridFrame(dir / "f_1.vdb", {{{0, 0, 0}, 0.5f}, {{1, 0, 0}, 1e30f}, {{2, 0, 0}, kNaN}},
                {{{0, 0, 0}, 2.0f}, {{1, 0, 0}, -5e6f}, {{2, 0, 0}, 7e6f}, {{3, 0, 0}, 8e6f}});
     std::vector<std::string> warnings;
     ReadOptions options;
@@ -138,26 +138,26 @@ TEST(DataChecks, ClampExtremeClampsAndReportsLikeCleaning) {
 
 TEST(DataChecks, StrictRefusesCleaningAndClamping) {
     TempDir dir;
-    writeDirtyFrame(dir / "f_1.vdb");
+    writeDirtyGridFrame(dir / "f_1.vdb");
     std::string error = errorOf([&] { VdbSequence::open(dir.path().string(), {.strict = true}).load(1); });
     EXPECT_THAT(error, HasSubstr((dir / "f_1.vdb").string() +
                                  ": density: 2 NaN, 1 Inf, 3 negative values; temperature: 1 NaN, 2 Inf values"));
     EXPECT_THAT(error, HasSubstr("refused by --strict"));
 
     TempDir extreme;
-    writeFrame(extreme / "f_1.vdb", {{{0, 0, 0}, 1e30f}}, kTemperature);
+    writeGridFrame(extreme / "f_1.vdb", {{{0, 0, 0}, 1e30f}}, kTemperature);
     error = errorOf([&] { VdbSequence::open(extreme.path().string(), {.clamp_extreme = true, .strict = true}).load(1); });
     EXPECT_THAT(error, HasSubstr("density: 1 value above 1e+06 (refused by --strict"));
 
     // A clean frame reads as usual under strict.
     TempDir clean;
-    writeFrame(clean / "f_1.vdb", kDensity, kTemperature);
+    writeGridFrame(clean / "f_1.vdb", kDensity, kTemperature);
     EXPECT_EQ(errorOf([&] { VdbSequence::open(clean.path().string(), {.strict = true}).load(1); }), "no error");
 }
 
 TEST(DataChecks, GapsAreReportedWhenTheSequenceIsOpened) {
     TempDir dir;
-    for (int f : {1, 2, 4}) writeFrame(dir / ("f_" + std::to_string(f) + ".vdb"), kDensity, kTemperature);
+    for (int f : {1, 2, 4}) writeGridFrame(dir / ("f_" + std::to_string(f) + ".vdb"), kDensity, kTemperature);
     std::vector<std::string> warnings;
     const VdbSequence sequence = VdbSequence::open(dir.path().string(), collecting(warnings));
     EXPECT_THAT(warnings, ElementsAre(dir.path().string() + ": frame 3 missing"));
@@ -165,7 +165,7 @@ TEST(DataChecks, GapsAreReportedWhenTheSequenceIsOpened) {
     EXPECT_EQ(warnings.size(), 1u) << "loading a clean frame adds nothing";
 
     TempDir wide;
-    for (int f : {1, 3, 4, 5, 8}) writeFrame(wide / ("f_" + std::to_string(f) + ".vdb"), kDensity, kTemperature);
+    for (int f : {1, 3, 4, 5, 8}) writeGridFrame(wide / ("f_" + std::to_string(f) + ".vdb"), kDensity, kTemperature);
     warnings.clear();
     VdbSequence::open(wide.path().string(), collecting(warnings));
     EXPECT_THAT(warnings, ElementsAre(wide.path().string() + ": frames 2, 6-7 missing"));

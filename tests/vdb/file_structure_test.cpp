@@ -31,7 +31,7 @@ std::vector<std::byte> readBytes(const std::filesystem::path& path) {
 
 // A density grid with voxels in two root children, several leaves, an internal-node tile and
 // inactive values, and a temperature grid, written with the given compression.
-void writeFrame(const std::filesystem::path& path, uint32_t compression, bool half = false) {
+void writeLayoutFrame(const std::filesystem::path& path, uint32_t compression, bool half = false) {
     Voxels density = kDensity;
     for (int i = 0; i < 40; ++i) density.push_back({{i * 7, -i * 3, i * 5}, 0.1f * float(i % 9)});
     density.push_back({{5000, 10, -9000}, 2.0f});
@@ -69,7 +69,7 @@ TEST(VdbFileStructure, EveryLayoutOpenVdbWritesPassesAndLoads) {
     for (const Variant& variant : variants) {
         SCOPED_TRACE(variant.name);
         TempDir dir;
-        writeFrame(dir / "f_1.vdb", variant.compression, variant.half);
+        writeLayoutFrame(dir / "f_1.vdb", variant.compression, variant.half);
         EXPECT_NO_THROW(checkFileStructure(dir / "f_1.vdb"));
         const VolumeFrame frame = VdbSequence::open(dir.path().string()).load(1);
         EXPECT_EQ(frame.density_stats.active_voxels, 43u + 8u * 8u * 8u);
@@ -102,7 +102,7 @@ TEST(VdbFileStructure, RootTilesInstancesAndOtherGridTypesPass) {
 
 TEST(VdbFileStructure, EveryTruncationIsRefusedNamingTheFile) {
     TempDir dir;
-    writeFrame(dir / "f_1.vdb", openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK);
+    writeLayoutFrame(dir / "f_1.vdb", openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK);
     const std::vector<std::byte> bytes = readBytes(dir / "f_1.vdb");
     ASSERT_NO_THROW(checkFileStructure(bytes, "f_1.vdb"));
     for (std::size_t size = 0; size < bytes.size(); ++size) {
@@ -113,7 +113,7 @@ TEST(VdbFileStructure, EveryTruncationIsRefusedNamingTheFile) {
 
 TEST(VdbFileStructure, HeaderProblemsAreNamed) {
     TempDir dir;
-    writeFrame(dir / "f_1.vdb", openvdb::io::COMPRESS_ZIP);
+    writeLayoutFrame(dir / "f_1.vdb", openvdb::io::COMPRESS_ZIP);
     const std::vector<std::byte> good = readBytes(dir / "f_1.vdb");
     const auto errorWith = [&](std::size_t offset, std::vector<uint8_t> patch) {
         std::vector<std::byte> bytes = good;

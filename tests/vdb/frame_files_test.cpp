@@ -21,7 +21,7 @@ std::vector<int> numbersOf(const std::vector<FrameFile>& frames) {
     return numbers;
 }
 
-std::string errorOf(const std::string& folder_or_pattern) {
+std::string frameFilesErrorOf(const std::string& folder_or_pattern) {
     try {
         findFrameFiles(folder_or_pattern);
     } catch (const VdbError& error) {
@@ -73,7 +73,7 @@ TEST(FrameFiles, OneFileIsAOneFrameSequence) {
 TEST(FrameFiles, MixedPrefixesAreRefusedAndNamed) {
     TempDir dir;
     for (const char* name : {"fire_0001.vdb", "fire_0002.vdb", "smoke_0001.vdb"}) touch(dir / name);
-    const std::string error = errorOf(dir.path().string());
+    const std::string error = frameFilesErrorOf(dir.path().string());
     EXPECT_THAT(error, HasSubstr(dir.path().string()));
     EXPECT_THAT(error, HasSubstr("'fire_'"));
     EXPECT_THAT(error, HasSubstr("'smoke_'"));
@@ -82,31 +82,31 @@ TEST(FrameFiles, MixedPrefixesAreRefusedAndNamed) {
 TEST(FrameFiles, FileWithoutFrameNumberInFolderIsRefused) {
     TempDir dir;
     for (const char* name : {"fire_0001.vdb", "cache.vdb"}) touch(dir / name);
-    EXPECT_THAT(errorOf(dir.path().string()), HasSubstr("cache.vdb"));
+    EXPECT_THAT(frameFilesErrorOf(dir.path().string()), HasSubstr("cache.vdb"));
 }
 
 TEST(FrameFiles, DuplicateFrameNumbersAreRefused) {
     TempDir dir;
     for (const char* name : {"fire_01.vdb", "fire_001.vdb"}) touch(dir / name);
-    const std::string error = errorOf(dir.path().string());
+    const std::string error = frameFilesErrorOf(dir.path().string());
     EXPECT_THAT(error, HasSubstr("fire_01.vdb"));
     EXPECT_THAT(error, HasSubstr("fire_001.vdb"));
 }
 
 TEST(FrameFiles, EmptyFolderAndNoMatchAreErrors) {
     TempDir dir;
-    EXPECT_THAT(errorOf(dir.path().string()), HasSubstr("no .vdb file"));
+    EXPECT_THAT(frameFilesErrorOf(dir.path().string()), HasSubstr("no .vdb file"));
     touch(dir / "fire_0001.vdb");
     const std::string pattern = (dir / "smoke_####.vdb").string();
-    EXPECT_THAT(errorOf(pattern), HasSubstr(pattern));
-    EXPECT_THAT(errorOf(pattern), HasSubstr("no file matches"));
-    EXPECT_THAT(errorOf((dir / "missing").string()), HasSubstr("no such folder or file"));
-    EXPECT_THAT(errorOf((dir / "missing" / "f_####.vdb").string()), HasSubstr("does not exist"));
+    EXPECT_THAT(frameFilesErrorOf(pattern), HasSubstr(pattern));
+    EXPECT_THAT(frameFilesErrorOf(pattern), HasSubstr("no file matches"));
+    EXPECT_THAT(frameFilesErrorOf((dir / "missing").string()), HasSubstr("no such folder or file"));
+    EXPECT_THAT(frameFilesErrorOf((dir / "missing" / "f_####.vdb").string()), HasSubstr("does not exist"));
 }
 
 TEST(FrameFiles, PatternWithTwoFrameFieldsIsRefused) {
     TempDir dir;
-    EXPECT_THAT(errorOf((dir / "f_##_%04d.vdb").string()), HasSubstr("more than one frame field"));
+    EXPECT_THAT(frameFilesErrorOf((dir / "f_##_%04d.vdb").string()), HasSubstr("more than one frame field"));
 }
 
 }  // namespace
