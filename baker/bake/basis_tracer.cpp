@@ -51,7 +51,8 @@ class ProgressGate {
     std::atomic<bool> stop_{false};
 };
 
-double secondsSince(std::chrono::steady_clock::time_point& start) {
+// Seconds since `start`, which then moves to now: the time of one stage after another.
+double lapSeconds(std::chrono::steady_clock::time_point& start) {
     const auto now = std::chrono::steady_clock::now();
     const double s = std::chrono::duration<double>(now - start).count();
     start = now;
@@ -157,11 +158,11 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     const ScatterCells cells = buildScatterCells(medium, tb, plan.cell_edge_voxels);
     if (cells.slots == 0) return out;
     gate.checkpoint(0.02);
-    out.seconds_setup = secondsSince(clock);
+    out.seconds_setup = lapSeconds(clock);
     const LightDepthField light_depths =
         buildLightDepths(medium, model, tb, cells, plan.light_spacing_voxels, settings.step_voxels);
     gate.checkpoint(0.05);
-    out.seconds_light = secondsSince(clock);
+    out.seconds_light = lapSeconds(clock);
 
     // Scattering orders: Lbar_sum = sum over orders of the mean radiance each produces.
     // Tracks only feed cell averages and each step is integrated exactly for its extinction: half a
@@ -244,7 +245,7 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
         }
     }
     gate.checkpoint(0.6);
-    out.seconds_photons = secondsSince(clock);
+    out.seconds_photons = lapSeconds(clock);
 
     // Camera rays: exact march of the fine medium, with a step from the pixel footprint.
     const IndexBox box = influenceBox(medium);
@@ -346,7 +347,7 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
         }
     });
     gate.throwIfStopped();
-    out.seconds_camera = secondsSince(clock);
+    out.seconds_camera = lapSeconds(clock);
     return out;
 }
 

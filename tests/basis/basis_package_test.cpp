@@ -35,7 +35,7 @@ BakeDescription packageDescription() {
 }
 
 // Factors with every value distinct (and a few awkward floats) so a misplaced byte shows.
-FrameFactors factors(const BakeDescription& d, int frame, int rank) {
+FrameFactors packageFactors(const BakeDescription& d, int frame, int rank) {
     FrameFactors f = emptyFrameFactors(d, frame, rank);
     for (int i = 0; i < f.pixels * rank; ++i)
         f.u_half.push_back(static_cast<uint16_t>(0x3000 + 37 * i + frame));
@@ -80,7 +80,7 @@ std::string packageErrorOf(const std::function<void()>& f) {
 TEST(BasisReader, FactorsRoundTrip) {
     TempDir dir;
     const BakeDescription d = packageDescription();
-    const std::vector<FrameFactors> frames = {factors(d, 1, 3), factors(d, 4, 1), factors(d, 7, 0)};
+    const std::vector<FrameFactors> frames = {packageFactors(d, 1, 3), packageFactors(d, 4, 1), packageFactors(d, 7, 0)};
     writePackage(dir / "a.firelook", d, frames);
 
     const BasisReader package = BasisReader::open(dir / "a.firelook");
@@ -135,7 +135,7 @@ TEST(BasisReader, ReadsLayout1) {
 TEST(BasisReader, HugeOpticalDepthsStayFinite) {
     TempDir dir;
     const BakeDescription d = packageDescription();
-    FrameFactors f = factors(d, 1, 1);
+    FrameFactors f = packageFactors(d, 1, 1);
     for (size_t i = 0; i < f.depth_b.size(); ++i) f.depth_b[i] = i % 2 ? 1e30f : 7e4f;
     for (size_t i = 0; i < f.depth_a.size(); ++i) {
         const float o_b = f.depth_b[i % f.pixels];
@@ -151,7 +151,7 @@ TEST(BasisReader, HugeOpticalDepthsStayFinite) {
 TEST(BasisReader, MissingFrameNamesTheFile) {
     TempDir dir;
     const BakeDescription d = packageDescription();
-    writePackage(dir / "a.firelook", d, {factors(d, 1, 2)});
+    writePackage(dir / "a.firelook", d, {packageFactors(d, 1, 2)});
     const BasisReader package = BasisReader::open(dir / "a.firelook");
     const std::string e = packageErrorOf([&] { package.loadFrame(2); });
     EXPECT_NE(e.find((dir / "a.firelook").string()), std::string::npos) << e;
@@ -162,7 +162,7 @@ TEST(BasisReader, WrongSectionSizeNamesTheFileAndSection) {
     TempDir dir;
     BakeDescription d = packageDescription();
     d.frames = {{1, 3}};  // the description claims rank 3, the factors hold rank 2
-    writePackage(dir / "a.firelook", d, {factors(d, 1, 2)});
+    writePackage(dir / "a.firelook", d, {packageFactors(d, 1, 2)});
     const BasisReader package = BasisReader::open(dir / "a.firelook");
     const std::string e = packageErrorOf([&] { package.loadFrame(1); });
     EXPECT_NE(e.find((dir / "a.firelook").string()), std::string::npos) << e;
@@ -174,11 +174,11 @@ TEST(BasisReader, WrongSectionSizeNamesTheFileAndSection) {
 TEST(BasisReader, InconsistentFactorsAreRefusedByTheWriter) {
     TempDir dir;
     const BakeDescription d = packageDescription();
-    FrameFactors f = factors(d, 1, 2);
+    FrameFactors f = packageFactors(d, 1, 2);
     f.depth_a.pop_back();
     package::ContainerWriter writer(dir / "a.firelook");
     EXPECT_THROW(writeFrameFactors(writer, d, f), std::invalid_argument);
-    f = factors(d, 2, 2);
+    f = packageFactors(d, 2, 2);
     f.u_half.pop_back();
     EXPECT_THROW(writeFrameFactors(writer, d, f), std::invalid_argument);
 }
@@ -189,7 +189,7 @@ TEST(BasisReader, MissingSectionNamesTheFileAndSection) {
     d.frames = {{1, 2}};
     {
         package::ContainerWriter writer(dir / "a.firelook");
-        const FrameFactors f = factors(d, 1, 2);
+        const FrameFactors f = packageFactors(d, 1, 2);
         writer.addSection(kSectionU, 1, std::as_bytes(std::span<const uint16_t>(f.u_half)));
         writer.addMetadata(makeMetadata(d, ""));
         writer.commit();

@@ -25,7 +25,7 @@ inline BakeDescription codecDescription(int width, int height, int samples) {
 }
 
 // What a bake writes, and what it should not.
-inline FrameFactors factors(const BakeDescription& d, int rank, uint32_t seed) {
+inline FrameFactors codecFactors(const BakeDescription& d, int rank, uint32_t seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
     FrameFactors f;

@@ -50,7 +50,7 @@ TEST(FrameCodec, AlphaWithinTheBoundForAnyLook) {
     for (const int samples : {1, 4, 9, 6})  // 6: not a square, stored as stacked images
     for (const double footprint_error : {0.0, 0.001}) {
         const BakeDescription d = codecDescription(13, 7, samples);
-        const FrameFactors original = factors(d, 4, 11 + samples);
+        const FrameFactors original = codecFactors(d, 4, 11 + samples);
         FrameCodecSettings settings;
         settings.alpha_error = 0.002;
         settings.footprint_error = footprint_error;
@@ -80,7 +80,7 @@ TEST(FrameCodec, AlphaWithinTheBoundForAnyLook) {
 // S V^T within half of its own step; the measured Frobenius errors near their targets.
 TEST(FrameCodec, UOnItsGridAndSvtExact) {
     const BakeDescription d = codecDescription(32, 24, 1);
-    const FrameFactors original = factors(d, 6, 5);
+    const FrameFactors original = codecFactors(d, 6, 5);
     FrameCodecSettings settings;
     settings.basis_error = 0.001;
     const EncodedFrame encoded = encodeFrame(d, original, settings);
@@ -106,7 +106,7 @@ TEST(FrameCodec, UOnItsGridAndSvtExact) {
 
 TEST(FrameCodec, SameBytesAndDamageRefused) {
     const BakeDescription d = codecDescription(9, 5, 4);
-    const FrameFactors f = factors(d, 3, 2);
+    const FrameFactors f = codecFactors(d, 3, 2);
     const EncodedFrame a = encodeFrame(d, f, {}), b = encodeFrame(d, f, {});
     EXPECT_EQ(a.u, b.u);
     EXPECT_EQ(a.svt, b.svt);
@@ -140,7 +140,7 @@ TEST(FrameCodec, SameBytesAndDamageRefused) {
 TEST(FrameCodec, ReportsTheBoundItCanKeep) {
     BakeDescription d = codecDescription(6, 5, 4);
     d.axes.smoke_extinction = {0.0, 2.0};  // k_s = 0 beside k_f = 4
-    const FrameFactors original = factors(d, 1, 3);
+    const FrameFactors original = codecFactors(d, 1, 3);
     FrameCodecSettings tight;
     tight.alpha_error = 1e-7;
     tight.footprint_error = 0.0;

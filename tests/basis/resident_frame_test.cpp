@@ -20,10 +20,10 @@
 namespace firelook::basis {
 namespace {
 
-// factors() with every other pixel's rays made equal, so a frame has both detailed pixels and
+// codecFactors() with every other pixel's rays made equal, so a frame has both detailed pixels and
 // pixels that keep their mean ray only.
 FrameFactors mixedFactors(const BakeDescription& d, int rank, uint32_t seed) {
-    FrameFactors f = factors(d, rank, seed);
+    FrameFactors f = codecFactors(d, rank, seed);
     const size_t pixels = static_cast<size_t>(f.pixels), thresholds = d.alpha_thresholds.size();
     for (size_t p = 0; p < pixels; p += 2)
         for (int s = 1; s < d.footprint_samples; ++s) {
@@ -84,7 +84,7 @@ TEST(ResidentFrame, ReconstructsAsTheExpandedFrame) {
 
 // tests/data/basis/codec1_frames.bin and codec2_frames.bin hold the three payloads the encoders of
 // codec versions 1 (plane after plane) and 2 (each item's codes together, as two byte planes)
-// wrote for factors(codecDescription(13, 7, S), 4, 11 + S) at alpha_error 0.002, footprint_error
+// wrote for codecFactors(codecDescription(13, 7, S), 4, 11 + S) at alpha_error 0.002, footprint_error
 // 0.001, for S = 9 and 6: u32 S, u32 rank, then each payload as u32 size and bytes. The
 // quantisation is unchanged since, so today's payloads of the same factors must decode to
 // exactly the same values.
@@ -122,7 +122,7 @@ void expectOldPayloadsDecode(const char* name, uint32_t version) {
         FrameCodecSettings settings;
         settings.alpha_error = 0.002;
         settings.footprint_error = 0.001;
-        const EncodedFrame today = encodeFrame(d, factors(d, rank, 11 + samples), settings);
+        const EncodedFrame today = encodeFrame(d, codecFactors(d, rank, 11 + samples), settings);
         EXPECT_NE(today.u, u) << name << " should differ from today's bytes";
         const ResidentFrame old_frame =
             decodeResidentFrame(d, 3, rank, u, svt, depths, name, std::pmr::get_default_resource(), nullptr);
@@ -171,7 +171,7 @@ TEST(ResidentFrame, AReusedFrameDecodesLikeAFreshOne) {
     EXPECT_EQ(a, b);
 }
 
-// factors() inside a disc only, all 0 outside (no U, no depth), as a fire's footprint leaves most
+// codecFactors() inside a disc only, all 0 outside (no U, no depth), as a fire's footprint leaves most
 // of a frame; `radius` 0 leaves nothing, a large one everything.
 FrameFactors discFactors(const BakeDescription& d, int rank, uint32_t seed, double radius) {
     FrameFactors f = mixedFactors(d, rank, seed);
@@ -234,7 +234,7 @@ TEST(ResidentFrame, EmptyPixelsAreLeftOutAndDecodeToZero) {
         if (radius == 0.0) {
             EXPECT_EQ(occupied_u + occupied_depth + runs_u + runs_depth, 0u);
         }
-        if (radius == 100.0) {  // factors() leaves U 0 left of x = 0.2 only: a run per row
+        if (radius == 100.0) {  // codecFactors() leaves U 0 left of x = 0.2 only: a run per row
             EXPECT_EQ(runs_u, size_t(d.height));
         }
         if (radius == 6.5) {

@@ -189,7 +189,7 @@ INSTANTIATE_TEST_SUITE_P(Signals, InterruptReference, ::testing::Values(SIGTERM,
                          });
 
 // Bakes `frames` of the sample into work/pkg.firelook, 16x16 with tiny settings (work/bake.json).
-void bakeTiny(const TempDir& work, const std::string& frames) {
+void bakeTinyFrames(const TempDir& work, const std::string& frames) {
     std::ofstream(work / "bake.json") << kTinyBakeConfig;
     const CommandResult r = runFirelook(work, "bake '" + kSample + "' -o pkg.firelook --frames " + frames +
                                                   " --size 16x16 --up z --config bake.json");
@@ -202,7 +202,7 @@ class InterruptBench : public ::testing::TestWithParam<int> {};
 TEST_P(InterruptBench, StopsAtOnceAndLeavesOutputsAsTheyWere) {
     const int signal_number = GetParam();
     TempDir dir;
-    ASSERT_NO_FATAL_FAILURE(bakeTiny(dir, "1"));
+    ASSERT_NO_FATAL_FAILURE(bakeTinyFrames(dir, "1"));
     const std::string previous = "{\"an earlier\": \"bench\"}\n";
     std::ofstream(dir / "bench.json", std::ios::binary) << previous;
     const std::vector<std::string> before = dir.entries();
@@ -226,7 +226,7 @@ INSTANTIATE_TEST_SUITE_P(Signals, InterruptBench, ::testing::Values(SIGTERM, SIG
 // last frame instead (a look whose albedo differs from the baked one), which unwinds the same way.
 TEST(Animate, IsAllOrNothing) {
     TempDir dir;
-    ASSERT_NO_FATAL_FAILURE(bakeTiny(dir, "1-2"));
+    ASSERT_NO_FATAL_FAILURE(bakeTinyFrames(dir, "1-2"));
     const CommandResult info = runFirelook(dir, "info --json pkg.firelook");
     ASSERT_EQ(info.exit_code, 0) << info.err;
     // The baked default look, and the same with another albedo, which the package refuses.
