@@ -303,7 +303,7 @@ FIRELOOK_ALWAYS_INLINE void rgbPixel(const RgbPlan& plan, size_t pixel, float al
     sum3(out, r, g, b);
     const v4f zero = {};
     const v4f largest = zero + std::numeric_limits<float>::max();
-    out = (out > zero) & (out <= largest) ? out : zero;  // NaN, +-inf and negatives -> 0
+    out = ((out > zero) & (out <= largest)) ? out : zero;  // NaN, +-inf and negatives -> 0
     out[3] = alpha;
     std::memcpy(rgba + pixel * 4, &out, sizeof out);
 }
@@ -493,7 +493,7 @@ void residentRgbSpan(const ResidentFrame& f, const v8f* zr, const v8f* zg, const
         sum3(out, r, g, b);
         const v4f zero = {};
         const v4f largest = zero + std::numeric_limits<float>::max();
-        out = (out > zero) & (out <= largest) ? out : zero;  // NaN, +-inf and negatives -> 0
+        out = ((out > zero) & (out <= largest)) ? out : zero;  // NaN, +-inf and negatives -> 0
         out[3] = alpha[i];
         std::memcpy(rgba + pixel * 4, &out, sizeof out);
     }
