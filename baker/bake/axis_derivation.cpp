@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 #include <nlohmann/json.hpp>
 #include <vector>
 
@@ -61,9 +62,17 @@ bool AxisDerivation::identity() const {
     return temperature_scale == 1.0 && temperature_offset == 0.0 && extinction_scale == 1.0;
 }
 
-AxisDerivation deriveAxes(const std::array<bool, 3>& given, const TemperatureBins& bins, const DensityDepth& density) {
+basis::ParameterAxes designAxes() { return {{1.0, 1.2, 1.4, 1.6, 1.8, 2.0}, {2.0, 4.0, 8.0, 16.0}, {0.5, 1.5, 4.0}}; }
+
+BakeAxes::BakeAxes(std::vector<double> tc, std::vector<double> ks, std::vector<double> kf)
+    : temperature_threshold(std::move(tc)), smoke_extinction(std::move(ks)), flame_extinction(std::move(kf)) {}
+
+BakeAxes::BakeAxes(const basis::ParameterAxes& all)
+    : BakeAxes(all.temperature_threshold, all.smoke_extinction, all.flame_extinction) {}
+
+AxisDerivation deriveAxes(const BakeAxes& given, const TemperatureBins& bins, const DensityDepth& density) {
     AxisDerivation d;
-    for (int i = 0; i < 3; ++i) d.derived[i] = !given[i];
+    d.derived = {!given.temperature_threshold, !given.smoke_extinction, !given.flame_extinction};
     d.t_lo = bins.t_lo;
     d.t_hi = bins.t_hi;
     d.density = density;
@@ -75,13 +84,16 @@ AxisDerivation deriveAxes(const std::array<bool, 3>& given, const TemperatureBin
     return d;
 }
 
-basis::ParameterAxes derivedAxes(const basis::ParameterAxes& design, const AxisDerivation& d) {
-    basis::ParameterAxes axes = design;
-    if (d.derived[0])
+basis::ParameterAxes derivedAxes(const BakeAxes& given, const AxisDerivation& d) {
+    basis::ParameterAxes axes = given.design;
+    if (given.temperature_threshold) axes.temperature_threshold = *given.temperature_threshold;
+    if (given.smoke_extinction) axes.smoke_extinction = *given.smoke_extinction;
+    if (given.flame_extinction) axes.flame_extinction = *given.flame_extinction;
+    if (d.derived[0] && !given.temperature_threshold)
         for (double& t : axes.temperature_threshold) t = d.temperature_scale * t + d.temperature_offset;
-    if (d.derived[1])
+    if (d.derived[1] && !given.smoke_extinction)
         for (double& k : axes.smoke_extinction) k *= d.extinction_scale;
-    if (d.derived[2])
+    if (d.derived[2] && !given.flame_extinction)
         for (double& k : axes.flame_extinction) k *= d.extinction_scale;
     return axes;
 }

@@ -15,7 +15,9 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "basis/parameter_grid.h"
 #include "look/look.h"
@@ -46,6 +48,24 @@ struct DensityDepth {
 };
 DensityDepth densityDepth(const render::Medium& medium);
 
+// The look axes the design samples (for the bundled sample's units): T_c, k_s, k_f.
+basis::ParameterAxes designAxes();
+
+// The look axes of a bake: those it is given, in code or by bake.json's "axes" keys, and the design
+// that stands in for the others. An axis left unset is the design's mapped to the data's units; one
+// that is set is baked as it is (one value collapses it). Setting an axis is all it takes to keep
+// it: there is no separate "given" flag to forget.
+struct BakeAxes {
+    std::optional<std::vector<double>> temperature_threshold, smoke_extinction, flame_extinction;
+    // What the unset axes are derived from; tests shrink it to bake fewer points.
+    basis::ParameterAxes design = designAxes();
+    BakeAxes() = default;
+    // All three given, as config.axes = {{1.0, 2.0}, {4.0}, {1.5}}.
+    BakeAxes(std::vector<double> tc, std::vector<double> ks, std::vector<double> kf);
+    BakeAxes(const basis::ParameterAxes& all);  // NOLINT(google-explicit-constructor): all three given
+    bool allGiven() const { return temperature_threshold && smoke_extinction && flame_extinction; }
+};
+
 // x rounded to two significant digits (x > 0): 0.25, 1.0, 1000.0, 1.3e-3.
 double roundTwoDigits(double x);
 
@@ -64,12 +84,12 @@ struct AxisDerivation {
 };
 
 // The derivation for a bake whose bins span `bins` and whose sequence measured `density`; the
-// factors always (the default look uses them), derived[i] for the axes not given explicitly
-// (given[i] true: axis i is kept as configured).
-AxisDerivation deriveAxes(const std::array<bool, 3>& given, const TemperatureBins& bins, const DensityDepth& density);
+// factors always (the default look uses them), derived[i] for the axes `given` leaves unset.
+AxisDerivation deriveAxes(const BakeAxes& given, const TemperatureBins& bins, const DensityDepth& density);
 
-// The configured (design) axes with the derived ones mapped; the given ones as they are.
-basis::ParameterAxes derivedAxes(const basis::ParameterAxes& design, const AxisDerivation& derivation);
+// The axes a bake samples: the given ones as they are, the others given.design's mapped by
+// `derivation` (only where its derived[i] is set).
+basis::ParameterAxes derivedAxes(const BakeAxes& given, const AxisDerivation& derivation);
 
 // defaultLook() in the data's units: T_c and the emission stops' temperatures by the affine map,
 // k_s, k_f and the emissivities (emission is per unit density too) by the extinction factor (always, whether or not the axes were given: the look is

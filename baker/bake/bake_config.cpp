@@ -95,13 +95,10 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             checkKeys(a, {"temperature_threshold", "smoke_extinction", "flame_extinction", "collapse_unused"}, "axes");
             if (a.contains("collapse_unused")) c.collapse_unused_axes = a["collapse_unused"].get<bool>();
             const char* names[3] = {"temperature_threshold", "smoke_extinction", "flame_extinction"};
-            std::vector<double>* axes[3] = {&c.axes.temperature_threshold, &c.axes.smoke_extinction,
-                                            &c.axes.flame_extinction};
+            std::optional<std::vector<double>>* axes[3] = {&c.axes.temperature_threshold, &c.axes.smoke_extinction,
+                                                           &c.axes.flame_extinction};
             for (int i = 0; i < 3; ++i)
-                if (a.contains(names[i])) {
-                    *axes[i] = axisFromJson(a[names[i]]);
-                    c.axes_given[i] = true;
-                }
+                if (a.contains(names[i])) *axes[i] = axisFromJson(a[names[i]]);
         }
         if (j.contains("trace")) {
             const json& t = j["trace"];
@@ -135,7 +132,7 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             c.storage.basis_error = t.value("basis_error", c.storage.basis_error);
             c.storage.footprint_error = t.value("footprint_error", c.storage.footprint_error);
         }
-        basis::validateAxes(c.axes);
+        basis::validateAxes(derivedAxes(c.axes, AxisDerivation{}));  // the given ones, the design's beside them
         if (c.bins < 1 || c.bins > 256) throw std::invalid_argument("bins must be 1..256");
         if (!(c.albedo >= 0.0 && c.albedo <= 1.0)) throw std::invalid_argument("albedo must be in [0, 1]");
         if (j.contains("memory_budget")) c.memory_budget_bytes = parseByteSize(j["memory_budget"].get<std::string>());
@@ -200,10 +197,12 @@ std::string configToJson(const BakeConfig& c) {
     if (c.t_hi) j["t_hi"] = *c.t_hi;
     j["rbf_width"] = c.rbf_width;
     j["albedo"] = c.albedo;
-    j["axes"] = {{"temperature_threshold", c.axes.temperature_threshold},
-                 {"smoke_extinction", c.axes.smoke_extinction},
-                 {"flame_extinction", c.axes.flame_extinction},
-                 {"collapse_unused", c.collapse_unused_axes}};
+    // Only the given axes: an unset one reads back unset, and is derived again.
+    j["axes"] = json::object();
+    if (c.axes.temperature_threshold) j["axes"]["temperature_threshold"] = *c.axes.temperature_threshold;
+    if (c.axes.smoke_extinction) j["axes"]["smoke_extinction"] = *c.axes.smoke_extinction;
+    if (c.axes.flame_extinction) j["axes"]["flame_extinction"] = *c.axes.flame_extinction;
+    j["axes"]["collapse_unused"] = c.collapse_unused_axes;
     j["alpha_threshold_samples"] = c.alpha_threshold_samples;
     j["trace"] = {{"cell_voxels", c.trace.cell_voxels},
                   {"max_cells_per_axis", c.trace.max_cells_per_axis},

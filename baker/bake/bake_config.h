@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "bake/axis_derivation.h"
 #include "bake/basis_compression.h"
 #include "bake/basis_tracer.h"
 #include "bake/scene_setup.h"
@@ -26,11 +27,10 @@ struct BakeConfig {
     std::optional<double> t_lo, t_hi;  // default: the sequence's temperature range
     double rbf_width = kDefaultRbfWidth;
     double albedo = 0.7;
-    // Sampled extinction parameters; one value collapses an axis (that parameter is fixed). These
-    // are the design for the bundled sample's units: an axis not given (axes_given, in
-    // ParameterAxes order) is mapped to the data's own units by the bake (axis_derivation.h).
-    basis::ParameterAxes axes{{1.0, 1.2, 1.4, 1.6, 1.8, 2.0}, {2.0, 4.0, 8.0, 16.0}, {0.5, 1.5, 4.0}};
-    std::array<bool, 3> axes_given{};  // set by bake.json's "axes" keys; given axes are baked as they are
+    // The sampled look parameters T_c, k_s, k_f; one value collapses an axis (that parameter is
+    // fixed). An axis left unset is the design's (designAxes()) mapped to the data's own units by
+    // the bake; one set here or by bake.json's "axes" keys is baked as it is (axis_derivation.h).
+    BakeAxes axes;
     // An axis whose samples cannot change any frame's image is baked at one sample (axis_collapse.h).
     // JSON: "axes": {"collapse_unused": false}; firelook bake --keep-axes.
     bool collapse_unused_axes = true;

@@ -133,7 +133,7 @@ DescribedBake describeDerivedBake(const vdb::VdbSequence& sequence, const BakeCo
     d.albedo = config.albedo;
     // The default look is always the data's; only the axes not given are mapped.
     const SequenceSurvey measured = survey ? SequenceSurvey{} : surveySequence(sequence);
-    out.derivation = deriveAxes(config.axes_given, d.bins, (survey ? *survey : measured).density);
+    out.derivation = deriveAxes(config.axes, d.bins, (survey ? *survey : measured).density);
     d.axes = derivedAxes(config.axes, out.derivation);
     basis::validateAxes(d.axes);
     const auto& tc = d.axes.temperature_threshold;
@@ -284,7 +284,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
     // frame of the whole sequence (not only the frames selected, so that shards agree), small
     // beside a frame's trace, measures what deriving the axes and the default look, and
     // collapsing the axes, need.
-    const auto& ax = config.axes;
+    const basis::ParameterAxes ax = derivedAxes(config.axes, AxisDerivation{});  // counts only: a derivation maps values
     const bool collapse = config.collapse_unused_axes && (ax.temperature_threshold.size() > 1 ||
                                                           ax.smoke_extinction.size() > 1 || ax.flame_extinction.size() > 1);
     const SequenceSurvey survey = surveySequence(sequence, [&](int frame) {
@@ -293,8 +293,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
     DescribedBake described = describeDerivedBake(sequence, config, scene, &survey);
     basis::BakeDescription& description = described.description;
     report.derivation = described.derivation;
-    const auto& given = config.axes_given;
-    if (notice && !(given[0] && given[1] && given[2])) notice(describeAxisDerivation(report.derivation, description.axes));
+    if (notice && !config.axes.allGiven()) notice(describeAxisDerivation(report.derivation, description.axes));
     // The collapse looks at the derived axes: it runs after the derivation.
     if (collapse) {
         report.axes = analyseAxes(description.axes, description.bins, survey.temperatures,

@@ -38,24 +38,31 @@ TEST(AxisDerivation, DesignRangeAndDepthAreTheIdentity) {
     const AxisDerivation d = deriveAxes({}, {kDesignTLo, kDesignTHi, 16}, {true, kDesignDensityDepth, 1.0, 1.0});
     EXPECT_TRUE(d.identity());
     const BakeConfig config;
-    EXPECT_EQ(derivedAxes(config.axes, d).temperature_threshold, config.axes.temperature_threshold);
+    EXPECT_EQ(derivedAxes(config.axes, d).temperature_threshold, designAxes().temperature_threshold);
     EXPECT_EQ(lookToJson(derivedDefaultLook(d)), lookToJson(defaultLook()));
 }
 
 TEST(AxisDerivation, GivenAxesAreKeptAndNoDensityKeepsTheExtinctions) {
     // Kelvin-like bins, no density measured: temperatures mapped, extinction factor 1.
-    const AxisDerivation d = deriveAxes({false, true, false}, {300.0, 3300.0, 16}, {});
+    BakeAxes given;
+    given.design = {{1.0, 2.0}, {4.0}, {1.5}};
+    given.smoke_extinction = {3.0};
+    const AxisDerivation d = deriveAxes(given, {300.0, 3300.0, 16}, {});
+    EXPECT_EQ(d.derived, (std::array<bool, 3>{true, false, true}));
     EXPECT_EQ(d.temperature_scale, 1000.0);
     EXPECT_EQ(d.temperature_offset, 300.0);
     EXPECT_EQ(d.extinction_scale, 1.0);
-    const basis::ParameterAxes design{{1.0, 2.0}, {4.0}, {1.5}};
-    const basis::ParameterAxes axes = derivedAxes(design, d);
+    const basis::ParameterAxes axes = derivedAxes(given, d);
     EXPECT_EQ(axes.temperature_threshold, (std::vector<double>{1300.0, 2300.0}));
-    EXPECT_EQ(axes.smoke_extinction, design.smoke_extinction);
+    EXPECT_EQ(axes.smoke_extinction, (std::vector<double>{3.0})) << "given, not the design's";
+    EXPECT_EQ(axes.flame_extinction, (std::vector<double>{1.5}));
     // A derived k_f with a depth 4x the design's: a quarter of the design's k.
-    const AxisDerivation denser = deriveAxes({true, true, false}, {0.0, 3.0, 16}, {true, 4.0 * kDesignDensityDepth, 4.0, 1.0});
-    EXPECT_EQ(derivedAxes(design, denser).flame_extinction, (std::vector<double>{0.375}));
-    EXPECT_EQ(derivedAxes(design, denser).temperature_threshold, design.temperature_threshold) << "given";
+    BakeAxes two_given = given;
+    two_given.temperature_threshold = {1.0, 2.0};
+    const AxisDerivation denser = deriveAxes(two_given, {300.0, 3300.0, 16}, {true, 4.0 * kDesignDensityDepth, 4.0, 1.0});
+    EXPECT_EQ(derivedAxes(two_given, denser).flame_extinction, (std::vector<double>{0.375}));
+    EXPECT_EQ(derivedAxes(two_given, denser).temperature_threshold, (std::vector<double>{1.0, 2.0})) << "given";
+    EXPECT_EQ(derivedAxes(two_given, denser).smoke_extinction, (std::vector<double>{3.0})) << "given";
 }
 
 // The bundled sample at the defaults: every factor exactly 1, so its axes, alpha thresholds and
@@ -72,14 +79,36 @@ TEST(AxisDerivation, BundledSampleKeepsTheDesignAxes) {
                 derived.derivation.density.dense_side, derived.derivation.density.depth);
     EXPECT_EQ(derived.derivation.derived, (std::array<bool, 3>{true, true, true}));
     EXPECT_TRUE(derived.derivation.identity());
-    EXPECT_EQ(derived.description.axes.temperature_threshold, config.axes.temperature_threshold);
-    EXPECT_EQ(derived.description.axes.smoke_extinction, config.axes.smoke_extinction);
-    EXPECT_EQ(derived.description.axes.flame_extinction, config.axes.flame_extinction);
+    EXPECT_EQ(derived.description.axes.temperature_threshold, designAxes().temperature_threshold);
+    EXPECT_EQ(derived.description.axes.smoke_extinction, designAxes().smoke_extinction);
+    EXPECT_EQ(derived.description.axes.flame_extinction, designAxes().flame_extinction);
     BakeConfig given = config;
-    given.axes_given = {true, true, true};
+    given.axes = designAxes();  // all three given
     const basis::BakeDescription fixed = describeBake(sequence, given, scene);
     EXPECT_EQ(derived.description.alpha_thresholds, fixed.alpha_thresholds);
     EXPECT_EQ(derived.description.default_look_json, fixed.default_look_json);
+}
+
+// Axes set in code are given, as bake.json's are, with no flag to forget: on data 4x denser, where the
+// derivation quarters the design's extinctions, the ones set are baked as set and only the one left
+// unset is scaled. (When "given" was a separate flag, tests that set axes in code had them scaled a
+// second time.)
+TEST(AxisDerivation, AxesSetInCodeAreGiven) {
+    vdb::ReadOptions denser;
+    denser.density_scale = 4.0;
+    const vdb::VdbSequence sequence = vdb::VdbSequence::open(FIRELOOK_SAMPLE_DIR, denser);
+    BakeConfig config;
+    config.scene.width = config.scene.height = 16;
+    config.scene.up = render::UpAxis::Z;
+    config.axes.temperature_threshold = {1.5};
+    config.axes.smoke_extinction = {2.0, 8.0};
+    const SceneSetup scene = resolveScene(sequence, config.scene);
+    const DescribedBake bake = describeDerivedBake(sequence, config, scene);
+    EXPECT_EQ(bake.derivation.extinction_scale, 0.25);
+    EXPECT_EQ(bake.derivation.derived, (std::array<bool, 3>{false, false, true}));
+    EXPECT_EQ(bake.description.axes.temperature_threshold, (std::vector<double>{1.5}));
+    EXPECT_EQ(bake.description.axes.smoke_extinction, (std::vector<double>{2.0, 8.0}));
+    EXPECT_EQ(bake.description.axes.flame_extinction, (std::vector<double>{0.125, 0.375, 1.0}));
 }
 
 // A small bake whose axes are derived from the design {1, 2} x {4} x {1.5}; frame 6 (the fire
@@ -88,7 +117,8 @@ BakeConfig derivedTinyConfig() {
     BakeConfig c = test::tinyConfig();
     c.frames = "6";
     c.scene.width = c.scene.height = 24;
-    c.axes_given = {false, false, false};
+    c.axes = BakeAxes{};
+    c.axes.design = {{1.0, 2.0}, {4.0}, {1.5}};
     return c;
 }
 
@@ -196,7 +226,11 @@ TEST(AxisDerivation, BakeJsonAxesAreGiven) {
     }
     BakeConfig c;
     applyConfigFile(c, dir / "bake.json");
-    EXPECT_EQ(c.axes_given, (std::array<bool, 3>{false, true, false}));
+    EXPECT_FALSE(c.axes.temperature_threshold.has_value());
+    EXPECT_EQ(c.axes.smoke_extinction, (std::vector<double>{3.0}));
+    EXPECT_FALSE(c.axes.flame_extinction.has_value());
+    const AxisDerivation d = deriveAxes(c.axes, {kDesignTLo, kDesignTHi, 16}, {});
+    EXPECT_EQ(d.derived, (std::array<bool, 3>{true, false, true}));
 }
 
 }  // namespace

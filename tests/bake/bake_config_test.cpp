@@ -85,6 +85,7 @@ TEST(BakeConfig, AbsentKeysKeepTheDefaults) {
     EXPECT_EQ(c.trace.max_orders, 2);
     EXPECT_EQ(c.trace.photons_primary, defaults.trace.photons_primary);
     EXPECT_EQ(c.axes.smoke_extinction, defaults.axes.smoke_extinction);
+    EXPECT_FALSE(c.axes.smoke_extinction.has_value()) << "not given: derived from the data";
     EXPECT_EQ(c.albedo, defaults.albedo);
     EXPECT_FALSE(c.t_lo.has_value());
 }
@@ -95,12 +96,14 @@ TEST(BakeConfig, AxisForms) {
         "temperature_threshold": {"min": 1, "max": 2, "count": 5},
         "smoke_extinction": {"min": 1, "max": 16, "count": 5, "spacing": "geometric"},
         "flame_extinction": {"min": 0.5, "max": 0.5, "count": 1}}})");
-    ASSERT_EQ(c.axes.temperature_threshold.size(), 5u);
-    for (int i = 0; i < 5; ++i) EXPECT_DOUBLE_EQ(c.axes.temperature_threshold[i], 1.0 + 0.25 * i);
-    ASSERT_EQ(c.axes.smoke_extinction.size(), 5u);
+    ASSERT_TRUE(c.axes.temperature_threshold && c.axes.smoke_extinction);
+    const std::vector<double>& tc = *c.axes.temperature_threshold;
+    const std::vector<double>& ks = *c.axes.smoke_extinction;
+    ASSERT_EQ(tc.size(), 5u);
+    for (int i = 0; i < 5; ++i) EXPECT_DOUBLE_EQ(tc[i], 1.0 + 0.25 * i);
+    ASSERT_EQ(ks.size(), 5u);
     // lo (hi/lo)^t: pow() rounding, a few ulps.
-    for (int i = 0; i < 5; ++i)
-        EXPECT_NEAR(c.axes.smoke_extinction[i], std::pow(2.0, i), 1e-12 * std::pow(2.0, i));
+    for (int i = 0; i < 5; ++i) EXPECT_NEAR(ks[i], std::pow(2.0, i), 1e-12 * std::pow(2.0, i));
     EXPECT_EQ(c.axes.flame_extinction, (std::vector<double>{0.5}));
 
     c = apply(dir, R"({"axes": {"smoke_extinction": 2.5, "flame_extinction": [0.25, 1, 4]}})");

@@ -22,7 +22,6 @@ inline BakeConfig tinyConfig(uint64_t seed = 1) {
     c.t_lo = 0.0;
     c.t_hi = 3.0;
     c.axes = {{1.0, 2.0}, {4.0}, {1.5}};
-    c.axes_given = {true, true, true};  // as a bake.json giving them: nothing derived
     c.alpha_threshold_samples = 3;
     c.trace.photons_primary = 2000;
     c.trace.photons_per_order = 1000;

@@ -24,7 +24,6 @@ inline const std::filesystem::path& fitTestPackage() {
         c.t_lo = 0.0;
         c.t_hi = 3.0;
         c.axes = {{1.0, 1.5, 2.0}, {2.0, 8.0}, {0.5, 3.0}};
-        c.axes_given = {true, true, true};  // as given, not derived from the data
         c.collapse_unused_axes = false;
         c.alpha_threshold_samples = 5;
         c.trace.photons_primary = 4000;

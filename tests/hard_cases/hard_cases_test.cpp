@@ -125,7 +125,6 @@ bake::BakeConfig tinyConfig() {
     c.t_hi = 3.0;
     c.albedo = 0.7;
     c.axes = {{1.0, 2.0}, {4.0}, {1.5}};
-    c.axes_given = {true, true, true};  // as a bake.json giving them: the tests set their own units
     c.alpha_threshold_samples = 3;
     c.trace.photons_primary = 2000;
     c.trace.photons_per_order = 1000;
