@@ -86,14 +86,17 @@ AxisDerivation deriveAxes(const BakeAxes& given, const TemperatureBins& bins, co
 
 basis::ParameterAxes derivedAxes(const BakeAxes& given, const AxisDerivation& d) {
     basis::ParameterAxes axes = given.design;
-    if (given.temperature_threshold) axes.temperature_threshold = *given.temperature_threshold;
-    if (given.smoke_extinction) axes.smoke_extinction = *given.smoke_extinction;
-    if (given.flame_extinction) axes.flame_extinction = *given.flame_extinction;
-    if (d.derived[0] && !given.temperature_threshold)
+    if (given.temperature_threshold)
+        axes.temperature_threshold = *given.temperature_threshold;
+    else
         for (double& t : axes.temperature_threshold) t = d.temperature_scale * t + d.temperature_offset;
-    if (d.derived[1] && !given.smoke_extinction)
+    if (given.smoke_extinction)
+        axes.smoke_extinction = *given.smoke_extinction;
+    else
         for (double& k : axes.smoke_extinction) k *= d.extinction_scale;
-    if (d.derived[2] && !given.flame_extinction)
+    if (given.flame_extinction)
+        axes.flame_extinction = *given.flame_extinction;
+    else
         for (double& k : axes.flame_extinction) k *= d.extinction_scale;
     return axes;
 }

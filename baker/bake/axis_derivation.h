@@ -88,7 +88,7 @@ struct AxisDerivation {
 AxisDerivation deriveAxes(const BakeAxes& given, const TemperatureBins& bins, const DensityDepth& density);
 
 // The axes a bake samples: the given ones as they are, the others given.design's mapped by
-// `derivation` (only where its derived[i] is set).
+// `derivation`'s factors (AxisDerivation{} is the identity: the design's as they are).
 basis::ParameterAxes derivedAxes(const BakeAxes& given, const AxisDerivation& derivation);
 
 // defaultLook() in the data's units: T_c and the emission stops' temperatures by the affine map,

@@ -2,7 +2,6 @@
 // optional --config JSON file that overrides them (docs/bake-config.md).
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
