@@ -183,7 +183,8 @@ nlohmann::ordered_json errorsEntry(const FrameBakeReport& fr) {
             {"cell_edge_voxels", fr.cell_edge_voxels},
             {"light_spacing_voxels", fr.light_spacing_voxels},
             {"cell_optical_depth", fr.cell_optical_depth},
-            {"last_order_fraction", fr.last_order_fraction}};
+            {"last_order_fraction", fr.last_order_fraction},
+            {"scattering_tail_fraction", fr.tail_fraction}};
     if (fr.has_target) entry["storage_target"] = storageTargetEntry(fr);
     return entry;
 }
@@ -206,6 +207,7 @@ FrameBakeReport reportFromMetadata(int frame, const FrameMetadata& kept) {
     fr.light_spacing_voxels = e.at("light_spacing_voxels");
     fr.cell_optical_depth = e.at("cell_optical_depth");
     fr.last_order_fraction = e.at("last_order_fraction");
+    fr.tail_fraction = e.value("scattering_tail_fraction", 0.0);  // packages before 2026-12-03 lack it
     if (e.contains("storage_target")) {
         const nlohmann::ordered_json& t = e.at("storage_target");
         fr.has_target = true;
@@ -379,6 +381,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         fr.trace_seconds = secondsSince(t0);
         fr.scattering_orders = traced.scattering_orders;
         fr.last_order_fraction = traced.last_order_fraction;
+        fr.tail_fraction = traced.tail_fraction;
         fr.setup_seconds = traced.seconds_setup;
         fr.light_seconds = traced.seconds_light;
         fr.photon_seconds = traced.seconds_photons;

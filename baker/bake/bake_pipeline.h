@@ -29,7 +29,8 @@ struct FrameBakeReport {
     uint64_t fire_light_bytes = 0;     // its fire lights' section (not recorded in META)
     double fire_light_seconds = 0.0;
     int scattering_orders = 0;
-    double last_order_fraction = 0.0;
+    double last_order_fraction = 0.0;  // largest share of a column's scattered power the last order added
+    double tail_fraction = 0.0;        // largest share the geometric tail of the untraced orders added
     double trace_seconds = 0.0;
     double compress_seconds = 0.0;
     // What the memory plan chose and estimated before tracing (frameMemoryPlan).

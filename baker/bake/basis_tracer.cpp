@@ -12,6 +12,7 @@
 
 #include "bake/index_ray.h"
 #include "bake/light_depth_field.h"
+#include "bake/order_series.h"
 #include "bake/photon_pass.h"
 #include "bake/photon_start_sampler.h"
 #include "bake/scatter_cells.h"
@@ -171,8 +172,8 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     const TransportContext ctx{medium, tb, cells, light_depths, track_step,
                                static_cast<size_t>(cells.slots) * G * C, gate.stopFlag()};
     std::vector<float> lbar_sum;
-    if (model.albedo > 0.0) {
-        lbar_sum.assign(ctx.field_size, 0.0f);
+    if (model.albedo > 0.0) lbar_sum.assign(ctx.field_size, 0.0f);
+    if (model.albedo > 0.0 && settings.max_orders > 0) {
         // Emission photons are drawn half by density and half equally per bin, so rare hot bins
         // get as many photons as common cool ones. Masses from cube centres, summed per z-layer of
         // bricks and then in order (the same bytes with any number of threads).
@@ -220,29 +221,25 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
         // (basis/six_way_lights.h) then never change how many orders the other columns get, so
         // every other column is the same bytes as in a bake without them (paths are shared).
         const int counted = model.six_way_first_light >= 0 ? tb.bins + model.six_way_first_light : C;
-        const auto countedSum = [&](const std::vector<float>& field) {
-            double sum = 0.0;
-            for (size_t i = 0; i < field.size(); ++i)
-                if (static_cast<int>(i % C) < counted) sum += field[i];
-            return sum;
-        };
-        double total = countedSum(order);
+        OrderSeries series(cells, G, C, counted, model.albedo);
+        series.add(order);
         for (size_t i = 0; i < order.size(); ++i) lbar_sum[i] += order[i];
-        out.scattering_orders = 1;
-        out.last_order_fraction = 1.0;
         gate.checkpoint(0.25);
-        for (int k = 2; k <= settings.max_orders && total > 0.0; ++k) {
+        for (int k = 2; k <= settings.max_orders; ++k) {
             order = photonPass(ctx, SourceKind::Scattered, density_sampler, &order, settings.photons_per_order,
                                settings.seed + 16 * k);
             gate.throwIfStopped();
-            const double added = countedSum(order);
+            series.add(order);
             for (size_t i = 0; i < order.size(); ++i) lbar_sum[i] += order[i];
-            total += added;
-            out.scattering_orders = k;
-            out.last_order_fraction = total > 0.0 ? added / total : 0.0;
             gate.checkpoint(0.25 + 0.35 * k / settings.max_orders);
-            if (out.last_order_fraction < settings.order_tolerance) break;
+            if (series.converged(settings.order_tolerance)) break;
         }
+        // The orders not traced, as the geometric tail of each column's series (order_series.h).
+        const std::vector<float> tail = series.tailFactors();
+        for (size_t i = 0; i < order.size(); ++i) lbar_sum[i] += tail[i % (static_cast<size_t>(G) * C)] * order[i];
+        out.scattering_orders = series.orders();
+        out.last_order_fraction = series.lastOrderFraction();
+        out.tail_fraction = series.tailFraction();
     }
     gate.checkpoint(0.6);
     out.seconds_photons = lapSeconds(clock);

@@ -12,8 +12,9 @@
 //      transmittance from a lattice of optical depths, light_depth_field.h).
 //   2. Scattering orders: the sigma_s-weighted mean radiance Lbar of each order is estimated on
 //      coarse cells (scatter_cells.h) with a track-length estimator (photon_pass.h); the next
-//      order's source is sigma_s * Lbar. Orders are added until one adds less than
-//      `order_tolerance` of the total. The weighting makes each cell's scattered power exact
+//      order's source is sigma_s * Lbar. Orders are added until, for every column on its own, the
+//      geometric tail of the orders left is within `order_tolerance` of that column's scattered
+//      power, and that tail is added (order_series.h). The weighting makes each cell's scattered power exact
 //      whatever its size, so cells follow the world extent (a cap per axis), not the voxel count.
 //   3. Camera rays march the exact fine-resolution medium and integrate
 //      tau * (Q0 + sigma_s * sum of Lbar) for every grid point and column; the
@@ -67,8 +68,12 @@ struct TraceSettings {
     int light_points_per_axis = 128;
     int photons_primary = 262144;     // photons for the primary sources
     int photons_per_order = 131072;   // photons for each further scattering order
-    int max_orders = 12;              // scattering orders at most
-    double order_tolerance = 0.002;   // stop when an order adds less than this fraction
+    // Scattering orders (photon passes) at most; 0 traces none (direct light and single scattering
+    // of the lights only: a diagnostic, tests/bake/scatter_order_report).
+    int max_orders = 12;
+    // Stop when, for every column, the geometric tail of the orders not yet traced is at most this
+    // share of the column's own scattered power; the tail is then added (order_series.h).
+    double order_tolerance = 0.002;
     // Smallest march step in voxels (camera rays and light depths; photon tracks use a quarter
     // cell, at least one voxel). 0.25 because at 0.5 the midpoint rule misses silhouette optical
     // depths by enough to move alpha by 0.0116 against the same rays marched at 0.1 (frame 3,
@@ -122,7 +127,8 @@ struct FrameBasis {
     std::vector<float> depth_b;   // O_b: footprint sample x pixel
     std::vector<float> depth_a;   // O_a: footprint sample x alpha threshold x pixel
     int scattering_orders = 0;          // orders traced
-    double last_order_fraction = 0.0;   // share of the total the last order added
+    double last_order_fraction = 0.0;   // largest share of a column's scattered power the last order added
+    double tail_fraction = 0.0;         // largest share of a column's scattered power the added tail is
     int cell_edge_voxels = 0;           // what the plan chose
     int light_spacing_voxels = 0;
     double cell_optical_depth = 0.0;

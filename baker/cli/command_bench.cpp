@@ -10,6 +10,7 @@
 //   interpolation uncompressed basis blended between grid points vs that direct trace
 //   compression   package (SVD truncation + half U) vs the uncompressed blend
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <filesystem>
 #include <cstdio>
@@ -106,6 +107,26 @@ std::vector<float> imageFromBasis(const basis::BakeDescription& d, const basis::
         rgba[p * 4 + 3] = basis::pixelAlpha(d, factors, p, look.extinction());
     }
     return rgba;
+}
+
+// Per RGB channel, the image's total against the reference's, minus 1 (0 where the reference is black).
+std::array<double, 3> channelMeanBias(const render::RenderImage& image, const render::RenderImage& reference) {
+    std::array<double, 3> sum{}, ref{};
+    for (size_t p = 0; p < reference.rgba.size(); ++p) {
+        if (p % 4 == 3) continue;
+        sum[p % 4] += image.rgba[p];
+        ref[p % 4] += reference.rgba[p];
+    }
+    std::array<double, 3> bias{};
+    for (int c = 0; c < 3; ++c) bias[c] = ref[c] > 0.0 ? sum[c] / ref[c] - 1.0 : 0.0;
+    return bias;
+}
+
+// The channel's bias furthest from 0, with its sign.
+double worstChannel(const std::array<double, 3>& bias) {
+    double worst = 0.0;
+    for (double b : bias) worst = std::abs(b) > std::abs(worst) ? b : worst;
+    return worst;
 }
 
 double maxAlphaDifference(const std::vector<float>& rgba, const std::vector<float>& alpha) {
@@ -276,7 +297,7 @@ void registerBenchCommand(CLI::App& app) {
         const uint64_t bake_seed = prov.at("settings").at("seed");
 
         ordered_json rows = ordered_json::array();
-        std::vector<double> rmse, ref_noise, mean_bias, mean_noise, alpha_error, corrected, e_trace, e_interp, e_compress, coeff_us, image_ms;
+        std::vector<double> rmse, ref_noise, mean_bias, channel_bias, mean_noise, b_trace, b_interp, b_compress, alpha_error, corrected, e_trace, e_interp, e_compress, coeff_us, image_ms;
         render::Pcg32 rng(args->seed);
         ProgressBar bar("bench");
         const int total = static_cast<int>(frames.size()) * args->looks;
@@ -370,6 +391,8 @@ void registerBenchCommand(CLI::App& app) {
                 }
                 mean_bias.push_back(ref_sum > 0.0 ? pkg_sum / ref_sum - 1.0 : 0.0);
                 mean_noise.push_back(ref_sum > 0.0 ? ref.estimated_relative_rmse * std::sqrt(ref_squares) / ref_sum : 0.0);
+                const std::array<double, 3> rgb_bias = channelMeanBias(pkg, ref.image);
+                channel_bias.push_back(worstChannel(rgb_bias));
                 ordered_json row = {{"frame", frame},
                                     {"look", lookToJson(look)},
                                     {"T_c", look.temperature_threshold},
@@ -379,6 +402,7 @@ void registerBenchCommand(CLI::App& app) {
                                     {"reference_noise", ref.estimated_relative_rmse},
                                     {"noise_corrected_rmse", corrected.back()},
                                     {"image_mean_bias", mean_bias.back()},
+                                    {"image_mean_bias_rgb", rgb_bias},
                                     {"image_mean_reference_noise", mean_noise.back()},
                                     {"max_alpha_error", a},
                                     {"max_alpha_error_vs_path_traced", a_traced},
@@ -396,9 +420,17 @@ void registerBenchCommand(CLI::App& app) {
                     e_trace.push_back(render::relativeRmse(direct_image, ref.image));
                     e_interp.push_back(render::relativeRmse(blended, direct_image));
                     e_compress.push_back(render::relativeRmse(pkg, blended));
+                    // The same split of the image-mean bias (worst channel): each source against the
+                    // stage before it.
+                    b_trace.push_back(worstChannel(channelMeanBias(direct_image, ref.image)));
+                    b_interp.push_back(worstChannel(channelMeanBias(blended, direct_image)));
+                    b_compress.push_back(worstChannel(channelMeanBias(pkg, blended)));
                     row["split"] = {{"tracing_vs_reference", e_trace.back()},
                                     {"interpolation", e_interp.back()},
-                                    {"compression", e_compress.back()}};
+                                    {"compression", e_compress.back()},
+                                    {"tracing_bias", b_trace.back()},
+                                    {"interpolation_bias", b_interp.back()},
+                                    {"compression_bias", b_compress.back()}};
                 }
                 throwIfInterrupted();
                 rows.push_back(row);
@@ -421,6 +453,7 @@ void registerBenchCommand(CLI::App& app) {
                                 {"max_alpha_error", maxOf(alpha_error)},
                                 {"median_image_mean_bias", median(mean_bias)},
                                 {"worst_image_mean_bias", worstBySize(mean_bias)},
+                                {"worst_channel_image_mean_bias", worstBySize(channel_bias)},
                                 {"median_image_mean_reference_noise", median(mean_noise)},
                                 {"median_coefficients_us", median(coeff_us)},
                                 {"median_image_ms", median(image_ms)},
@@ -435,7 +468,10 @@ void registerBenchCommand(CLI::App& app) {
         if (args->split)
             summary["split_median"] = {{"tracing_vs_reference", median(e_trace)},
                                        {"interpolation", median(e_interp)},
-                                       {"compression", median(e_compress)}};
+                                       {"compression", median(e_compress)},
+                                       {"tracing_bias", median(b_trace)},
+                                       {"interpolation_bias", median(b_interp)},
+                                       {"compression_bias", median(b_compress)}};
         std::printf("%s\n", summary.dump(2).c_str());
         if (!args->json_out.empty())
             writeFileAtomically(args->json_out, ordered_json{{"summary", summary}, {"looks", rows}}.dump(2) + "\n");

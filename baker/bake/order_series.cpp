@@ -1,0 +1,77 @@
+#include "bake/order_series.h"
+
+#include <algorithm>
+
+namespace firelook::bake {
+
+OrderSeries::OrderSeries(const ScatterCells& cells, int points, int columns, int counted, double albedo)
+    : cells_(cells),
+      points_(points),
+      columns_(columns),
+      counted_(counted),
+      albedo_(albedo),
+      total_(static_cast<std::size_t>(points) * columns, 0.0),
+      last_(total_.size(), 0.0),
+      previous_(total_.size(), 0.0) {}
+
+void OrderSeries::add(const std::vector<float>& field) {
+    std::vector<double> power(total_.size(), 0.0);
+    for (int s = 0; s < cells_.slots; ++s)
+        for (int g = 0; g < points_; ++g) {
+            const double m = cells_.mass[static_cast<std::size_t>(s) * points_ + g];
+            const float* v = field.data() + (static_cast<std::size_t>(s) * points_ + g) * columns_;
+            double* p = power.data() + static_cast<std::size_t>(g) * columns_;
+            for (int c = 0; c < columns_; ++c) p[c] += m * v[c];
+        }
+    previous_.swap(last_);
+    last_.swap(power);
+    for (std::size_t i = 0; i < total_.size(); ++i) total_[i] += last_[i];
+    ++orders_;
+}
+
+double OrderSeries::ratio(std::size_t i) const {
+    if (orders_ < 2 || !(previous_[i] > 0.0) || !(last_[i] > 0.0)) return 0.0;
+    return std::clamp(last_[i] / previous_[i], 0.0, albedo_);
+}
+
+double OrderSeries::tail(std::size_t i) const {
+    const double r = ratio(i);
+    return r < 1.0 ? last_[i] * r / (1.0 - r) : 0.0;
+}
+
+bool OrderSeries::converged(double tolerance) const {
+    if (orders_ < 2) return false;
+    for (std::size_t i = 0; i < total_.size(); ++i) {
+        if (static_cast<int>(i % columns_) >= counted_ || !(total_[i] > 0.0)) continue;
+        // A column whose last order added nothing (no paths left) has nothing more to add.
+        if (tail(i) > tolerance * total_[i]) return false;
+    }
+    return true;
+}
+
+std::vector<float> OrderSeries::tailFactors() const {
+    std::vector<float> f(total_.size(), 0.0f);
+    for (std::size_t i = 0; i < f.size(); ++i) {
+        const double r = ratio(i);
+        if (r > 0.0 && r < 1.0) f[i] = static_cast<float>(r / (1.0 - r));
+    }
+    return f;
+}
+
+double OrderSeries::lastOrderFraction() const {
+    double worst = 0.0;
+    for (std::size_t i = 0; i < total_.size(); ++i)
+        if (static_cast<int>(i % columns_) < counted_ && total_[i] > 0.0)
+            worst = std::max(worst, last_[i] / (total_[i] + tail(i)));
+    return worst;
+}
+
+double OrderSeries::tailFraction() const {
+    double worst = 0.0;
+    for (std::size_t i = 0; i < total_.size(); ++i)
+        if (static_cast<int>(i % columns_) < counted_ && total_[i] > 0.0)
+            worst = std::max(worst, tail(i) / (total_[i] + tail(i)));
+    return worst;
+}
+
+}  // namespace firelook::bake
