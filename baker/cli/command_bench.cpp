@@ -1,5 +1,6 @@
 // firelook bench SEQUENCE --package P [--frames 3,7,11] [--looks 20] [--spp 1024] [--split] [-o OUT.json]
 //                [--alpha-rays N] [--reference-cache DIR] [--csv FILE --label TEXT]
+//                [--emission-scale S] [--corners]
 //
 // Accuracy of a baked package against the reference path tracer (docs/testing.md):
 // random looks inside the baked ranges — T_c, k_s, k_f between grid
@@ -42,14 +43,25 @@ namespace {
 
 using nlohmann::ordered_json;
 
+// How bench draws its looks: `--emission-scale` scales every look's emission (0: the lights alone,
+// the regime of sunlit smoke), `--corners` puts every look on a corner of the (T_c, k_s, k_f) box.
+struct LookDraw {
+    double emission_scale = 1.0;
+    bool corners = false;
+};
+
 // A look drawn at random inside the package's ranges. A third of the looks put
 // each parameter within 5% of one end of its range; the rest draw it uniformly
-// (k_s and k_f log-uniformly), so they land between grid points.
-Look randomLook(const basis::BakeDescription& d, render::Pcg32& rng, int index) {
+// (k_s and k_f log-uniformly), so they land between grid points. With draw.corners, look i sits
+// on corner i mod 8 (bit 0: T_c, bit 1: k_s, bit 2: k_f at the top of its range).
+Look randomLook(const basis::BakeDescription& d, render::Pcg32& rng, int index, const LookDraw& how = {}) {
+    int axis_index = 0;
     const auto draw = [&](const std::vector<double>& axis, bool logarithmic) {
         const double lo = axis.front(), hi = axis.back();
         double u = rng.uniform();
         if (index % 3 == 2) u = rng.uniform() < 0.5 ? 0.05 * u : 1.0 - 0.05 * u;
+        if (how.corners) u = ((index % 8) >> axis_index) & 1 ? 1.0 : 0.0;
+        ++axis_index;
         if (logarithmic && lo > 0.0) return lo * std::pow(hi / lo, u);
         return lo + u * (hi - lo);
     };
@@ -66,7 +78,7 @@ Look randomLook(const basis::BakeDescription& d, render::Pcg32& rng, int index) 
     stops.stops.push_back({t, Rgb(0.0f)});
     for (int s = 0; s < 3; ++s) {
         t += (t_hi - t) * (0.3 + 0.4 * rng.uniform());
-        const float intensity = static_cast<float>(1.0 + 12.0 * rng.uniform());
+        const float intensity = static_cast<float>((1.0 + 12.0 * rng.uniform()) * how.emission_scale);
         const Rgb hue(1.0f, static_cast<float>(0.2 + 0.7 * rng.uniform()), static_cast<float>(0.05 + 0.4 * rng.uniform()));
         stops.stops.push_back({t, intensity * hue});
     }
@@ -182,7 +194,8 @@ void appendCsvRow(const std::filesystem::path& file, const std::string& label, c
                                            "worst_noise_corrected_rmse", "max_alpha_error",
                                            "median_image_mean_bias", "worst_image_mean_bias",
                                            "median_coefficients_us", "median_image_ms", "package_bytes",
-                                           "bake_seconds", "bake_peak_memory_mib"};
+                                           "bake_seconds", "bake_peak_memory_mib",
+                                           "worst_channel_image_mean_bias", "median_image_mean_reference_noise"};
     const bool fresh = !std::filesystem::exists(file) || std::filesystem::file_size(file) == 0;
     std::ofstream out(file, std::ios::app);
     if (fresh) {
@@ -233,6 +246,7 @@ void registerBenchCommand(CLI::App& app) {
         std::string sequence, package, json_out;
         std::vector<int> frames;
         std::string reference_cache, csv_out, label, bake_report;
+        LookDraw draw;
         int looks = 20, spp = 1024, alpha_rays = 8;
         uint64_t seed = 7;
         bool split = false;
@@ -247,6 +261,12 @@ void registerBenchCommand(CLI::App& app) {
     cmd->add_option("--looks", args->looks, "random looks per frame")->capture_default_str();
     cmd->add_option("--spp", args->spp, "reference samples per pixel")->capture_default_str();
     cmd->add_option("--seed", args->seed, "seed for the looks and the reference")->capture_default_str();
+    cmd->add_option("--emission-scale", args->draw.emission_scale,
+                    "scale every look's emission (0: the lights alone, as for sunlit smoke)")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_flag("--corners", args->draw.corners,
+                  "put every look on a corner of the (T_c, k_s, k_f) ranges (look i on corner i mod 8)");
     cmd->add_flag("--split", args->split, "split the error by source (re-traces each frame's basis)");
     addOutputOption(*cmd, args->json_out, "write every figure as JSON to this file", {"--json"});
     cmd->add_option("--alpha-rays", args->alpha_rays,
@@ -320,7 +340,7 @@ void registerBenchCommand(CLI::App& app) {
             throwIfInterrupted();
             for (int k = 0; k < args->looks; ++k) {
                 throwIfInterrupted();
-                const Look look = randomLook(d, rng, done);
+                const Look look = randomLook(d, rng, done, args->draw);
                 const LookModel model = makeLookModel(look, d.bins, d.rbf_width, d.light_directions);
 
                 // Runtime cost: coefficients (median of repeats) and a full image.

@@ -1,19 +1,71 @@
 #!/usr/bin/env bash
-# Accuracy of a bake against the reference path tracer (issue 4's bars):
-# bakes frames 3, 7 and 11 of the bundled sample at 128x128 with the default
-# settings, then `firelook bench` draws 7 random looks per frame (21 in all),
-# path-traces each at 1024 spp and splits the error by source. Alpha is judged
-# against 8x8 exact rays per pixel. References are kept in out/bench/references
-# (REFERENCES=dir to move them), which the speed-vs-error sweep shares.
+# Accuracy of a bake against the reference path tracer, regime by regime (issue 27): each regime
+# bakes its frames at 128x128 with the default settings (unless its bake.json in
+# scripts/bench/accuracy/ says otherwise), then `firelook bench` draws random looks over the baked
+# ranges, path-traces each at 1024 spp and splits the error by source. Alpha is judged against 8x8
+# exact rays per pixel. Prints one table (also written as OUT/regimes.csv and OUT/regimes.txt):
+# noise-corrected relative RMSE median and worst, the image-mean bias of the worst channel with the
+# reference's own noise of the mean, the bias split (tracing / interpolation / compression), alpha.
+#   emission      samples/data/explosion frames 3, 7, 11: flame and fresh smoke, emission dominates
+#   sunlit-smoke  samples/data/smoke frame 20: smoke lit by the scene's light, emission off
+#   dense-0.7     frame 20 as dense smoke (k_s at the top of its range: optical depth 5-20), albedo 0.7
+#   dense-0.95    the same at albedo 0.95 (tens of scattering orders)
+#   thin-late     samples/data/smoke frame 30: thin, spread-out late smoke, emission on
+#   corners       explosion frame 7, every look on a corner of the (T_c, k_s, k_f) ranges
+# References are kept in out/bench/references (REFERENCES=dir to move them); REGIMES="a b" runs some.
 #   scripts/bench/accuracy.sh [out-dir]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 out="${1:-$root/out/bench/accuracy}"
 "$root/scripts/build.sh" release firelook >/dev/null
 firelook="$root/build/release/baker/cli/firelook"
+configs="$root/scripts/bench/accuracy"
+references="${REFERENCES:-$root/out/bench/references}"
 mkdir -p "$out"
-"$firelook" bake "$root/samples/data/explosion" --up z --size 128x128 --frames 3,7,11 \
-  -o "$out/bench128.firelook" | tee "$out/bake.txt"
-"$firelook" bench "$root/samples/data/explosion" --package "$out/bench128.firelook" --frames 3,7,11 \
-  --looks 7 --spp 1024 --split --json "$out/accuracy.json" \
-  --reference-cache "${REFERENCES:-$root/out/bench/references}" | tee "$out/summary.json"
+csv="$out/regimes.csv"
+rm -f "$csv"
+
+# regime NAME SEQUENCE FRAMES LOOKS_PER_FRAME BAKE_CONFIG|- BENCH_FLAGS...
+regime() {
+  local name="$1" sequence="$2" frames="$3" looks="$4" config="$5"
+  shift 5
+  local config_args=()
+  [[ "$config" != - ]] && config_args=(--config "$configs/$config")
+  echo "== $name"
+  "$firelook" bake "$sequence" --up z --size 128x128 --frames "$frames" "${config_args[@]}" \
+    -o "$out/$name.firelook" --report "$out/$name.bake.json" | tee "$out/$name.bake.txt"
+  "$firelook" bench "$sequence" --package "$out/$name.firelook" --frames "$frames" --looks "$looks" \
+    --spp 1024 --split --json "$out/$name.json" --csv "$csv" --label "$name" \
+    --bake-report "$out/$name.bake.json" --reference-cache "$references" "$@" > "$out/$name.summary.json"
+}
+
+sample="$root/samples/data/explosion"
+smoke="$root/samples/data/smoke"
+selected="${REGIMES:-emission sunlit-smoke dense-0.7 dense-0.95 thin-late corners}"
+for name in $selected; do
+  case "$name" in
+    emission)     regime emission "$sample" 3,7,11 7 - ;;
+    sunlit-smoke) regime sunlit-smoke "$smoke" 20 8 - --emission-scale 0 ;;
+    dense-0.7)    regime dense-0.7 "$smoke" 20 6 dense_albedo_0.7.json --emission-scale 0.1 ;;
+    dense-0.95)   regime dense-0.95 "$smoke" 20 6 dense_albedo_0.95.json --emission-scale 0.1 ;;
+    thin-late)    regime thin-late "$smoke" 30 6 - ;;
+    corners)      regime corners "$sample" 7 8 - --corners ;;
+    *) echo "accuracy.sh: unknown regime '$name'" >&2; exit 2 ;;
+  esac
+done
+
+# The table: the bias split comes from each regime's JSON (bench --split), the rest from the CSV.
+{
+  printf '%-13s %6s %9s %9s %10s %10s %24s %7s %7s\n' regime looks "median %" "worst %" "bias %" "ref noise %" \
+    "bias: trace/interp/comp %" alpha "bake s"
+  tail -n +2 "$csv" | while IFS=, read -r label looks med_rmse worst_rmse ref_noise med_corr worst_corr alpha \
+      med_bias worst_bias coeff_us image_ms bytes bake_s bake_mib channel_bias mean_noise; do
+    split="$(tr -d ' \n' < "$out/$label.json" | grep -o '"split_median":{[^}]*}' || true)"
+    field() { echo "$split" | grep -o "\"$1\":[-0-9.e+]*" | cut -d: -f2; }
+    awk -v l="$label" -v n="$looks" -v m="$med_corr" -v w="$worst_corr" -v b="$channel_bias" -v r="$mean_noise" \
+        -v bt="$(field tracing_bias)" -v bi="$(field interpolation_bias)" -v bc="$(field compression_bias)" \
+        -v a="$alpha" -v s="$bake_s" 'BEGIN {
+      printf "%-13s %6d %9.2f %9.2f %+10.2f %10.3f %+8.2f/%+6.2f/%+6.2f %7.4f %7.0f\n",
+             l, n, 100*m, 100*w, 100*b, 100*r, 100*bt, 100*bi, 100*bc, a, s }'
+  done
+} | tee "$out/regimes.txt"

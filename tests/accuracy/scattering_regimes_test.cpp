@@ -1,0 +1,90 @@
+// The scattered-light regimes of scripts/bench/accuracy.sh as tests (issue 27): smoke lit by the
+// scene's light with the emission off, dense smoke at albedo 0.95, thin late smoke with emission.
+// Each bakes one frame of samples/data/smoke at 64x64 (4 x 4 footprint rays, as advised below
+// 128x128) with its look axes fixed to one point (a
+// bake.json with numbers for T_c, k_s, k_f), so the package holds the basis at exactly the look
+// bench draws: its image-mean bias is the tracer's (plus the codec's, ~0.01%), with no grid
+// interpolation, and the bake takes seconds instead of a minute. The interpolation's own bias is
+// measured by scripts/bench/accuracy.sh (README, "Accuracy by regime").
+//
+// The bias this guards: the scattered light of sunlit smoke came out 1-1.7% low (the cells' sigma_s
+// mass from cube centres, baker/bake/scatter_cells.cpp; and dense, high-albedo smoke lost the tail
+// of its orders). Measured with the baker before the fix (bench of today's): -0.56% on the first
+// case and -1.70% on the second (worst channel); with the fix -0.08%, -0.14% and +0.23% on the
+// three. Margin 0.4%: fails at half the bias the issue found; the reference's own noise of the mean
+// is 0.06-0.09% at 1024 spp here (printed; the test requires below 0.13%), so the margin is 3 or
+// more of its standard errors. CI time: about 165 s for the three (2-core machine, release build).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "../support/command.h"
+
+namespace {
+
+using firelook::testing::runIn;
+using firelook::testing::TempDir;
+
+struct Regime {
+    const char* name;
+    int frame;
+    const char* bake_json;
+    const char* bench_flags;
+};
+
+void checkRegime(const Regime& r) {
+    TempDir dir;
+    const std::string firelook = FIRELOOK_EXE;
+    const std::string smoke = FIRELOOK_SMOKE_DIR;
+    std::ofstream(dir / "bake.json") << r.bake_json;
+    const std::string package = (dir / "p.firelook").string();
+    const auto bake = runIn(dir, firelook + " bake " + smoke + " --up z --size 64x64 --frames " +
+                                     std::to_string(r.frame) + " --config bake.json -o " + package);
+    ASSERT_EQ(bake.exit_code, 0) << r.name << ": " << bake.err;
+    const auto bench = runIn(dir, firelook + " bench " + smoke + " --package " + package + " --frames " +
+                                      std::to_string(r.frame) + " --looks 2 --spp 1024 " + r.bench_flags +
+                                      " --json bench.json");
+    ASSERT_EQ(bench.exit_code, 0) << r.name << ": " << bench.err;
+    const nlohmann::json result = nlohmann::json::parse(std::ifstream(dir / "bench.json"));
+    const nlohmann::json& s = result.at("summary");
+    const double bias = s.at("worst_channel_image_mean_bias").get<double>();
+    const double noise = s.at("median_image_mean_reference_noise").get<double>();
+    const double alpha = s.at("max_alpha_error").get<double>();
+    std::printf("[measured] %s: worst channel image-mean bias %+.4f (reference noise of the mean %.4f), max alpha "
+                "error %.4f\n",
+                r.name, bias, noise, alpha);
+    EXPECT_LT(std::abs(bias), 0.004) << r.name;
+    EXPECT_LT(noise, 0.0013) << r.name << ": the reference is too noisy to judge a 0.4% bias";
+    // Alpha: the issue's bar 0.005 (alpha is exact for any look; what is left is the codec and the
+    // footprint quadrature, hence 4 x 4 rays a pixel at 64x64 as docs/bake-config.md advises: with
+    // 3 x 3 the dense case measured 0.0055).
+    EXPECT_LT(alpha, 0.005) << r.name;
+}
+
+TEST(ScatteringRegimes, SunlitSmokeWithoutEmission) {
+    checkRegime({"sunlit smoke (frame 20, T_c 0.7, k_s 50, k_f 10, albedo 0.7, emission off)", 20,
+                 R"({"albedo": 0.7, "axes": {"temperature_threshold": 0.7, "smoke_extinction": 50,
+                     "flame_extinction": 10}, "trace": {"footprint_samples_per_axis": 4}})",
+                 "--emission-scale 0"});
+}
+
+TEST(ScatteringRegimes, DenseSmokeAtAlbedo095) {
+    checkRegime({"dense smoke (frame 20, k_s 100, albedo 0.95, emission x0.1)", 20,
+                 R"({"albedo": 0.95, "axes": {"temperature_threshold": 0.7, "smoke_extinction": 100,
+                     "flame_extinction": 10}, "trace": {"footprint_samples_per_axis": 4}})",
+                 "--emission-scale 0.1"});
+}
+
+TEST(ScatteringRegimes, ThinLateSmokeWithEmission) {
+    checkRegime({"thin late smoke (frame 30, k_s 30, albedo 0.7, emission on)", 30,
+                 R"({"albedo": 0.7, "axes": {"temperature_threshold": 0.7, "smoke_extinction": 30,
+                     "flame_extinction": 10}, "trace": {"footprint_samples_per_axis": 4}})",
+                 ""});
+}
+
+}  // namespace
