@@ -14,8 +14,9 @@
 //      coarse cells (scatter_cells.h) with a track-length estimator (photon_pass.h); the next
 //      order's source is sigma_s * Lbar. Orders are added until, for every column on its own, the
 //      geometric tail of the orders left is within `order_tolerance` of that column's scattered
-//      power, and that tail is added (order_series.h). The weighting makes each cell's scattered power exact
-//      whatever its size, so cells follow the world extent (a cap per axis), not the voxel count.
+//      power, and that tail is added (order_series.h). The weighting makes each cell's scattered
+//      power exact whatever its size, so cells follow the world extent (a cap per axis), not the
+//      voxel count.
 //   3. Camera rays march the exact fine-resolution medium and integrate
 //      tau * (Q0 + sigma_s * sum of Lbar) for every grid point and column; the
 //      per-pixel optical depths for exact alpha come from the same march. Their step follows the

@@ -29,49 +29,44 @@ void OrderSeries::add(const std::vector<float>& field) {
     ++orders_;
 }
 
-double OrderSeries::ratio(std::size_t i) const {
+double OrderSeries::tailFactor(std::size_t i) const {
     if (orders_ < 2 || !(previous_[i] > 0.0) || !(last_[i] > 0.0)) return 0.0;
-    return std::clamp(last_[i] / previous_[i], 0.0, albedo_);
+    const double r = std::clamp(last_[i] / previous_[i], 0.0, albedo_);
+    return r < 1.0 ? r / (1.0 - r) : 0.0;
 }
 
-double OrderSeries::tail(std::size_t i) const {
-    const double r = ratio(i);
-    return r < 1.0 ? last_[i] * r / (1.0 - r) : 0.0;
+bool OrderSeries::counts(std::size_t i) const {
+    return static_cast<int>(i % columns_) < counted_ && total_[i] > 0.0;
+}
+
+template <typename Share>
+double OrderSeries::worstShare(Share share) const {
+    double worst = 0.0;
+    for (std::size_t i = 0; i < total_.size(); ++i)
+        if (counts(i)) worst = std::max(worst, share(i) / (total_[i] + last_[i] * tailFactor(i)));
+    return worst;
 }
 
 bool OrderSeries::converged(double tolerance) const {
     if (orders_ < 2) return false;
-    for (std::size_t i = 0; i < total_.size(); ++i) {
-        if (static_cast<int>(i % columns_) >= counted_ || !(total_[i] > 0.0)) continue;
-        // A column whose last order added nothing (no paths left) has nothing more to add.
-        if (tail(i) > tolerance * total_[i]) return false;
-    }
+    // A column whose last order added nothing (no paths left) has nothing more to add: factor 0.
+    for (std::size_t i = 0; i < total_.size(); ++i)
+        if (counts(i) && last_[i] * tailFactor(i) > tolerance * total_[i]) return false;
     return true;
 }
 
 std::vector<float> OrderSeries::tailFactors() const {
-    std::vector<float> f(total_.size(), 0.0f);
-    for (std::size_t i = 0; i < f.size(); ++i) {
-        const double r = ratio(i);
-        if (r > 0.0 && r < 1.0) f[i] = static_cast<float>(r / (1.0 - r));
-    }
+    std::vector<float> f(total_.size());
+    for (std::size_t i = 0; i < f.size(); ++i) f[i] = static_cast<float>(tailFactor(i));
     return f;
 }
 
 double OrderSeries::lastOrderFraction() const {
-    double worst = 0.0;
-    for (std::size_t i = 0; i < total_.size(); ++i)
-        if (static_cast<int>(i % columns_) < counted_ && total_[i] > 0.0)
-            worst = std::max(worst, last_[i] / (total_[i] + tail(i)));
-    return worst;
+    return worstShare([&](std::size_t i) { return last_[i]; });
 }
 
 double OrderSeries::tailFraction() const {
-    double worst = 0.0;
-    for (std::size_t i = 0; i < total_.size(); ++i)
-        if (static_cast<int>(i % columns_) < counted_ && total_[i] > 0.0)
-            worst = std::max(worst, tail(i) / (total_[i] + tail(i)));
-    return worst;
+    return worstShare([&](std::size_t i) { return last_[i] * tailFactor(i); });
 }
 
 }  // namespace firelook::bake

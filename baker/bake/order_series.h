@@ -45,8 +45,13 @@ class OrderSeries {
     int orders() const { return orders_; }
 
   private:
-    double ratio(std::size_t i) const;  // r of entry i = g * columns + c, clamped into [0, albedo]
-    double tail(std::size_t i) const;
+    // Entry i = g * columns + c: r / (1 - r) with r = P_k / P_(k-1) clamped into [0, albedo] (0
+    // before two orders, where the power vanished, or at r = 1); its tail is last_[i] times that.
+    double tailFactor(std::size_t i) const;
+    bool counts(std::size_t i) const;  // a counted column with power
+    // Largest share(i) / (total + tail) over the entries that count.
+    template <typename Share>
+    double worstShare(Share share) const;
 
     const ScatterCells& cells_;
     int points_, columns_, counted_;

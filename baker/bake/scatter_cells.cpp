@@ -110,12 +110,14 @@ ScatterCells buildScatterCells(const render::Medium& medium, const TraceTables& 
     const std::size_t n_cells = static_cast<std::size_t>(cells.count.x) * cells.count.y * cells.count.z;
     // Per cell, the integrals of the smoke and flame parts of the density per sampled T_c: sigma_s
     // of every grid point is a linear combination of them, so 2 n_tc sums give all G masses.
-    // Each unit cube is integrated with 2 x 2 x 2 Gauss points, not its centre alone: the parts are
+    // Each unit cube is integrated with 4 x 4 x 4 Gauss points, not its centre alone: the parts are
     // rho (1 -+ f(T - T_c)) / 2, a product of the trilinear density and a sigmoid of the trilinear
-    // temperature, and where density and temperature rise together across a voxel (every flame
-    // front) the centre overestimates the smoke part's integral. Lbar = deposit / M then came out
-    // low wherever k_s > k_f: the scattered light of sunlit smoke was 2% low on the explosion's
-    // frame 20 (tests/bake/scatter_order_report; issue 27), with any cell size.
+    // temperature, and where density and temperature change together across a voxel (every flame
+    // front, and the fringe where both fall to the background) the centre misjudges them and moves
+    // mass between cells (64% in the worst cell of tests/bake/scatter_cells_test.cpp's front; 2 x 2
+    // x 2 points: 10%). Lbar = deposit / M then came out wrong cell by cell: the scattered light of
+    // sunlit smoke was 2% low on the explosion's frame 20 (tests/bake/scatter_order_report; issue
+    // 27), with any cell size.
     const int parts = 2 * tb.n_tc;
     std::vector<double> part_sums(n_cells * parts, 0.0);
     // One task per layer of cells: the cubes of a layer only touch that layer's cells.

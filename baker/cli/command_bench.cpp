@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 #include <numeric>
 #include <optional>
+#include <span>
 
 #include "world/package_camera.h"
 #include "bake/basis_tracer.h"
@@ -121,6 +122,14 @@ std::vector<float> imageFromBasis(const basis::BakeDescription& d, const basis::
     return rgba;
 }
 
+// The entry farthest from zero, with its sign.
+double worstBySize(std::span<const double> v) {
+    double worst = 0.0;
+    for (double x : v)
+        if (std::fabs(x) > std::fabs(worst)) worst = x;
+    return worst;
+}
+
 // Per RGB channel, the image's total against the reference's, minus 1 (0 where the reference is black).
 std::array<double, 3> channelMeanBias(const render::RenderImage& image, const render::RenderImage& reference) {
     std::array<double, 3> sum{}, ref{};
@@ -132,13 +141,6 @@ std::array<double, 3> channelMeanBias(const render::RenderImage& image, const re
     std::array<double, 3> bias{};
     for (int c = 0; c < 3; ++c) bias[c] = ref[c] > 0.0 ? sum[c] / ref[c] - 1.0 : 0.0;
     return bias;
-}
-
-// The channel's bias furthest from 0, with its sign.
-double worstChannel(const std::array<double, 3>& bias) {
-    double worst = 0.0;
-    for (double b : bias) worst = std::abs(b) > std::abs(worst) ? b : worst;
-    return worst;
 }
 
 double maxAlphaDifference(const std::vector<float>& rgba, const std::vector<float>& alpha) {
@@ -209,13 +211,6 @@ void appendCsvRow(const std::filesystem::path& file, const std::string& label, c
     if (!out) throw std::runtime_error(file.string() + ": cannot append the bench row");
 }
 
-// The entry farthest from zero, with its sign.
-double worstBySize(const std::vector<double>& v) {
-    double worst = 0.0;
-    for (double x : v)
-        if (std::fabs(x) > std::fabs(worst)) worst = x;
-    return worst;
-}
 
 double median(std::vector<double> v) {
     if (v.empty()) return 0.0;
@@ -412,7 +407,7 @@ void registerBenchCommand(CLI::App& app) {
                 mean_bias.push_back(ref_sum > 0.0 ? pkg_sum / ref_sum - 1.0 : 0.0);
                 mean_noise.push_back(ref_sum > 0.0 ? ref.estimated_relative_rmse * std::sqrt(ref_squares) / ref_sum : 0.0);
                 const std::array<double, 3> rgb_bias = channelMeanBias(pkg, ref.image);
-                channel_bias.push_back(worstChannel(rgb_bias));
+                channel_bias.push_back(worstBySize(rgb_bias));
                 ordered_json row = {{"frame", frame},
                                     {"look", lookToJson(look)},
                                     {"T_c", look.temperature_threshold},
@@ -442,9 +437,9 @@ void registerBenchCommand(CLI::App& app) {
                     e_compress.push_back(render::relativeRmse(pkg, blended));
                     // The same split of the image-mean bias (worst channel): each source against the
                     // stage before it.
-                    b_trace.push_back(worstChannel(channelMeanBias(direct_image, ref.image)));
-                    b_interp.push_back(worstChannel(channelMeanBias(blended, direct_image)));
-                    b_compress.push_back(worstChannel(channelMeanBias(pkg, blended)));
+                    b_trace.push_back(worstBySize(channelMeanBias(direct_image, ref.image)));
+                    b_interp.push_back(worstBySize(channelMeanBias(blended, direct_image)));
+                    b_compress.push_back(worstBySize(channelMeanBias(pkg, blended)));
                     row["split"] = {{"tracing_vs_reference", e_trace.back()},
                                     {"interpolation", e_interp.back()},
                                     {"compression", e_compress.back()},
