@@ -1,6 +1,7 @@
 #include "basis/parameter_grid.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -8,21 +9,67 @@
 namespace firelook::basis {
 namespace {
 
+// The grid samples one axis blends and their weights: up to 4 (a C1 cubic), 1 at a sample, outside
+// the range or on a collapsed axis.
 struct AxisWeights {
-    int lower = 0;
-    int upper = 0;
-    float t = 0.0f;  // weight of upper
+    int count = 0;
+    std::array<int, 4> index{};
+    std::array<double, 4> weight{};
+    void add(int i, double w) {
+        index[count] = i;
+        weight[count] = w;
+        ++count;
+    }
 };
 
-AxisWeights axisWeights(const std::vector<double>& samples, double value) {
-    const int last = static_cast<int>(samples.size()) - 1;
-    if (last <= 0 || !(value > samples.front())) return {0, 0, 0.0f};  // also catches NaN
-    if (value >= samples.back()) return {last, last, 0.0f};
-    const auto it = std::upper_bound(samples.begin(), samples.end(), value);
-    const int upper = static_cast<int>(it - samples.begin());
+// The Lagrange weights of the parabola through samples a, a+1, a+2, evaluated at x, scaled by s.
+void addParabola(const std::vector<double>& x_s, int a, double x, double s, AxisWeights& out) {
+    for (int i = a; i < a + 3; ++i) {
+        double w = s;
+        for (int j = a; j < a + 3; ++j)
+            if (j != i) w *= (x - x_s[j]) / (x_s[i] - x_s[j]);
+        // A sample both parabolas use is added twice; merge it so each sample appears once.
+        int at = 0;
+        while (at < out.count && out.index[at] != i) ++at;
+        if (at < out.count)
+            out.weight[at] += w;
+        else
+            out.add(i, w);
+    }
+}
+
+// Between samples i and i+1 at t = (x - x_i) / (x_(i+1) - x_i): the parabola through i-1, i, i+1 blended
+// linearly into the one through i, i+1, i+2 (an Overhauser spline, Catmull-Rom's construction on
+// uneven samples), in the parameter itself. It is exact at the samples and for any quadratic in the
+// parameter (so for the thin-smoke image, linear in k), continuous in value and slope across
+// samples, and follows a saturating image (smoke that thickens as k grows) where linear
+// interpolation cuts the curve and renders dark (docs/model.md, "Between grid points"). The end
+// intervals use the one parabola they have; an axis of two samples is linear. Weights can be
+// negative (down to -1/8 on even samples, -1/3 on samples that double), so a blend can undershoot zero: the runtime clamps the
+// reconstructed colour and the fire lights' intensities at zero.
+AxisWeights axisWeights(const std::vector<double>& x_s, double x) {
+    AxisWeights out;
+    const int last = static_cast<int>(x_s.size()) - 1;
+    if (last <= 0 || !(x > x_s.front())) {  // also catches NaN
+        out.add(0, 1.0);
+        return out;
+    }
+    if (x >= x_s.back()) {
+        out.add(last, 1.0);
+        return out;
+    }
+    const int upper = static_cast<int>(std::upper_bound(x_s.begin(), x_s.end(), x) - x_s.begin());
     const int lower = upper - 1;
-    const double t = (value - samples[lower]) / (samples[upper] - samples[lower]);
-    return {lower, upper, static_cast<float>(t)};
+    const double t = (x - x_s[lower]) / (x_s[upper] - x_s[lower]);
+    if (last == 1) {
+        out.add(lower, 1.0 - t);
+        out.add(upper, t);
+        return out;
+    }
+    const bool has_left = lower >= 1, has_right = upper + 1 <= last;
+    if (has_left) addParabola(x_s, lower - 1, x, has_right ? 1.0 - t : 1.0, out);
+    if (has_right) addParabola(x_s, lower, x, has_left ? t : 1.0, out);
+    return out;
 }
 
 void validateAxis(const std::vector<double>& samples, const char* name) {
@@ -51,16 +98,15 @@ GridWeights interpolationWeights(const ParameterAxes& axes, const ExtinctionPara
     const AxisWeights ks = axisWeights(axes.smoke_extinction, theta.smoke_extinction);
     const AxisWeights kf = axisWeights(axes.flame_extinction, theta.flame_extinction);
     GridWeights out;
-    for (int c = 0; c < 8; ++c) {
-        const bool up_tc = c & 4, up_ks = c & 2, up_kf = c & 1;
-        const float w = (up_tc ? tc.t : 1.0f - tc.t) * (up_ks ? ks.t : 1.0f - ks.t) * (up_kf ? kf.t : 1.0f - kf.t);
-        if (w == 0.0f) continue;
-        const int point = axes.pointIndex(up_tc ? tc.upper : tc.lower, up_ks ? ks.upper : ks.lower,
-                                          up_kf ? kf.upper : kf.lower);
-        out.point[out.count] = point;
-        out.weight[out.count] = w;
-        ++out.count;
-    }
+    for (int a = 0; a < tc.count; ++a)
+        for (int b = 0; b < ks.count; ++b)
+            for (int c = 0; c < kf.count; ++c) {
+                const float w = static_cast<float>(tc.weight[a] * ks.weight[b] * kf.weight[c]);
+                if (w == 0.0f) continue;
+                out.point[out.count] = axes.pointIndex(tc.index[a], ks.index[b], kf.index[c]);
+                out.weight[out.count] = w;
+                ++out.count;
+            }
     return out;
 }
 

@@ -30,15 +30,18 @@ struct ParameterAxes {
     ExtinctionParams point(int index) const;
 };
 
-// Up to 8 grid points with non-zero weight (trilinear), weights sum to 1.
+// Up to 4 x 4 x 4 grid points with non-zero weight; weights sum to 1 and can be negative.
 struct GridWeights {
+    static constexpr int kMaxPoints = 64;
     int count = 0;
-    std::array<int, 8> point{};
-    std::array<float, 8> weight{};
+    std::array<int, kMaxPoints> point{};
+    std::array<float, kMaxPoints> weight{};
 };
 
-// Linear interpolation per axis; a request outside an axis's range is clamped
-// to its ends (the baked range is what the package can reproduce).
+// Per axis a C1 piecewise cubic through the 4 samples around the request (two parabolas
+// blended, parameter_grid.cpp), exact at the samples and for any quadratic; an axis of two
+// samples is linear. A request outside an axis's range is clamped to its ends (the baked
+// range is what the package can reproduce).
 GridWeights interpolationWeights(const ParameterAxes& axes, const ExtinctionParams& theta);
 
 // Throws std::invalid_argument naming the axis if it is empty, unsorted or non-finite.

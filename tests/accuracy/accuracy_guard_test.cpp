@@ -24,9 +24,10 @@ int run(const std::string& command) {
 // README figures (scripts/bench/accuracy.sh, regime "emission", 128x128): noise-corrected relative
 // RMSE median 0.23%, worst 0.96%; max alpha error 0.0054; image-mean bias within 0.75%.
 // This run: frame 7 (smoke and flame), 128x128, 4 looks at 512 spp (seed 7), measured: median
-// 0.30%, worst 0.38%, alpha 0.0015, bias -0.20% (2026-12-03; before the cells' sigma_s mass was
-// integrated per cube, 0.35%, 0.45%, 0.0014, -0.30%). The scattered-light regimes have their own
-// guard with a tighter bias margin: scattering_regimes_test.cpp.
+// 0.26%, worst 0.37%, alpha 0.0015, bias -0.08% (2026-12-03, cubic look interpolation; with linear
+// 0.30%, 0.38%, 0.0015, -0.20%; before the cells' sigma_s mass was integrated per cube, 0.35%,
+// 0.45%, 0.0014, -0.30%). The scattered-light regimes have their own guard with a tighter bias
+// margin (scattering_regimes_test.cpp), the look interpolation its own (interpolation_test.cpp).
 // At 512 spp the reference's own noise is ~1.9% and the noise correction subtracts an estimate of it, so the corrected figure of a look scatters by
 // about that estimate's error (~0.2% of the 1.9%, i.e. a few tenths of a percent of error). Margins:
 // median 1.5% and worst 2.5% (the README's worst plus that scatter, with room), alpha 0.01 (the

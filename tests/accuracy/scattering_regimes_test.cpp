@@ -5,7 +5,8 @@
 // bake.json with numbers for T_c, k_s, k_f), so the package holds the basis at exactly the look
 // bench draws: its image-mean bias is the tracer's (plus the codec's, ~0.01%), with no grid
 // interpolation, and the bake takes seconds instead of a minute. The interpolation's own bias is
-// measured by scripts/bench/accuracy.sh (README, "Accuracy by regime").
+// guarded by interpolation_test.cpp and measured by scripts/bench/accuracy.sh (README, "Accuracy
+// by regime").
 //
 // The bias this guards: the scattered light of sunlit smoke came out 1-1.7% low (the cells' sigma_s
 // mass from cube centres, baker/bake/scatter_cells.cpp; and dense, high-albedo smoke lost the tail

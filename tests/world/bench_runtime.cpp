@@ -15,6 +15,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "basis/parameter_grid.h"
 #include "basis/coefficients.h"
 #include "basis/recombine.h"
 #include "synthetic_package.h"
@@ -70,7 +71,7 @@ float plainRead(const float* data, size_t n) {
 
 Look benchLook(double tc, double ks, double kf, float scale) {
     Look l = defaultLook();
-    l.temperature_threshold = tc;  // between grid samples on every axis: 8 grid points
+    l.temperature_threshold = tc;  // between grid samples on every axis
     l.smoke_extinction = ks;
     l.flame_extinction = kf;
     l.emission = EmissionPreset{"fire", scale};
@@ -119,8 +120,9 @@ int main(int argc, char** argv) {
         const double s = medianSeconds(reps, [&] {
             for (int i = 0; i < inner; ++i) world.update(0.0);
         });
-        std::printf("coefficients, one instance (keyframe blend + emission + z, rank 64, 16 bins, 8 grid points): "
-                    "median %.2f us per update (CPU time %.2f us)\n", s / inner * 1e6, g_cpu / inner * 1e6);
+        const int points = basis::interpolationWeights(d.axes, a.extinction()).count;
+        std::printf("coefficients, one instance (keyframe blend + emission + z, rank 64, 16 bins, %d grid points): "
+                    "median %.2f us per update (CPU time %.2f us)\n", points, s / inner * 1e6, g_cpu / inner * 1e6);
 
         // For comparison: the kernel alone, basis::computeCoefficients (its checks + the kernel), and
         // the uncached path (interpolateLooks + makeLookModel, i.e. the NNLS fit per update +
