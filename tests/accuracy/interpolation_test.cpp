@@ -10,7 +10,7 @@
 // drawn by `firelook bench --split`: -0.63% to -2.56%); the per-axis cubic measured +0.13% to
 // +0.52% there. Margin 0.75%: fails at half the bias linear interpolation gave the worst looks, and
 // the tracer's photon noise in the mean (the two packages trace different grid points) is below
-// 0.05% at this size. CI time: about 60 s (2-core machine, release build).
+// 0.05% at this size. CI time: about 70 s (2-core machine, release build).
 #include <gtest/gtest.h>
 
 #include <array>
