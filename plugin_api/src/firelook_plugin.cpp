@@ -199,11 +199,15 @@ void checkFinite(double v, const char* what) {
     if (!std::isfinite(v)) fail(FL_ERROR_INVALID_ARGUMENT, std::string(what) + " is not finite");
 }
 
+// The header's size convention: a call with capacity 0 only asks for the size (whatever the buffer
+// pointer is), so an engine can pass its one scratch pointer for both calls.
+bool isSizeQuery(size_t capacity) { return capacity == 0; }
+
 // Writes text + NUL into a caller buffer with the size convention of the header.
 void writeText(const std::string& text, char* buffer, size_t capacity, size_t* out_size) {
     const size_t needed = text.size() + 1;
     if (out_size) *out_size = needed;
-    if (capacity == 0) return;
+    if (isSizeQuery(capacity)) return;
     if (!buffer) fail(FL_ERROR_INVALID_ARGUMENT, "buffer is null");
     if (capacity < needed)
         fail(FL_ERROR_BUFFER_TOO_SMALL, "buffer holds " + std::to_string(capacity) + " bytes, " +
@@ -405,7 +409,7 @@ FIRELOOK_API fl_result fl_package_get_frames(fl_package h, int32_t* numbers, int
         const auto p = findPackage(h);
         const uint32_t n = static_cast<uint32_t>(p->frameCount());
         if (out_count) *out_count = n;
-        if (!numbers && !ranks) return;
+        if ((!numbers && !ranks) || isSizeQuery(capacity)) return;
         checkCapacity(capacity, n, "entries");
         for (uint32_t i = 0; i < n; ++i) {
             if (numbers) numbers[i] = p->frameNumber(static_cast<int>(i));
@@ -443,7 +447,7 @@ FIRELOOK_API fl_result fl_package_get_frame_u(fl_package h, int32_t frame, uint1
         const size_t pixels = static_cast<size_t>(d.pixelCount());
         const size_t needed = layers * pixels * 4;
         if (out_count) *out_count = needed;
-        if (capacity == 0 && !buffer) return;
+        if (isSizeQuery(capacity)) return;
         checkPointer(buffer, "buffer");
         checkCapacity(capacity, needed, "uint16_t elements");
         const basis::FrameFactors f = p->loadSlot(slot);
@@ -462,7 +466,7 @@ FIRELOOK_API fl_result fl_package_get_frame_depths(fl_package h, int32_t frame, 
         const size_t pixels = static_cast<size_t>(d.pixelCount());
         const size_t needed = pixels * static_cast<size_t>(d.footprint_samples) * (1 + d.alpha_thresholds.size());
         if (out_count) *out_count = needed;
-        if (capacity == 0 && !buffer) return;
+        if (isSizeQuery(capacity)) return;
         checkPointer(buffer, "buffer");
         checkCapacity(capacity, needed, "floats");
         const basis::FrameFactors f = p->loadSlot(slot);
@@ -499,7 +503,7 @@ FIRELOOK_API fl_result fl_package_get_lights(fl_package h, double* directions, f
         const std::vector<Rgb>& e = p->defaultLook().light_irradiance;  // one per light (resolveLook checked)
         const uint32_t n = static_cast<uint32_t>(d.size());
         if (out_count) *out_count = n;
-        if (!directions && !irradiance) return;
+        if ((!directions && !irradiance) || isSizeQuery(capacity)) return;
         checkCapacity(capacity, n, "entries");
         // Every direction checked before anything is written: a failed call writes nothing.
         std::vector<double> unit(3 * size_t{n});
@@ -567,7 +571,7 @@ FIRELOOK_API fl_result fl_look_get_bin_emissivity(fl_look lh, fl_package ph, flo
         const TemperatureBins& bins = p->description().bins;
         const uint32_t n = static_cast<uint32_t>(bins.count);
         if (out_count) *out_count = n;
-        if (!rgb) return;
+        if (!rgb || isSizeQuery(capacity)) return;
         checkCapacity(capacity, n, "bins");
         const std::vector<Rgb> e = resolveBinEmissivity(*look, bins);  // LookError: a bins form of another count
         for (const Rgb& v : e)
@@ -831,7 +835,7 @@ FIRELOOK_API fl_result fl_instance_get_coefficients(fl_world w, fl_instance i, f
         const WorldInstance wi = findInstance(w, i);
         const world::InstanceState s = wi.world.state(wi.instance);
         if (out_rank) *out_rank = s.rank;
-        if (capacity == 0 && !z) return;
+        if (isSizeQuery(capacity)) return;
         checkPointer(z, "z");
         if (!s.updated) fail(FL_ERROR_NO_DATA, "no fl_world_update since the instance was created");
         const size_t needed = static_cast<size_t>(s.rank) * 3;
@@ -923,7 +927,7 @@ FIRELOOK_API fl_result fl_instance_get_frame_u(fl_world w, fl_instance i, uint16
         const basis::ResidentFrame& frame = shownFrame(wi);
         const size_t needed = plugin::uLayerElements(frame.rank, static_cast<size_t>(frame.pixels));
         if (out_count) *out_count = needed;
-        if (capacity == 0 && !buffer) return;
+        if (isSizeQuery(capacity)) return;
         checkPointer(buffer, "buffer");
         checkCapacity(capacity, needed, "uint16_t elements");
         plugin::writeULayers(frame, buffer);
@@ -938,7 +942,7 @@ FIRELOOK_API fl_result fl_instance_get_frame_depths(fl_world w, fl_instance i, f
         const basis::BakeDescription& d = wi.world.package(wi.instance).description();
         const size_t needed = plugin::depthLayerFloats(d);
         if (out_count) *out_count = needed;
-        if (capacity == 0 && !buffer) return;
+        if (isSizeQuery(capacity)) return;
         checkPointer(buffer, "buffer");
         checkCapacity(capacity, needed, "floats");
         plugin::writeDepthLayers(d, frame, buffer);

@@ -444,6 +444,51 @@ TEST_F(PluginApiWorld, ImageEqualsRenderLookImageAndGpuDataReproducesIt) {
 // of the "decoded factor copies" that fl_allocator says come from the host allocator; for frame 4
 // (rank 7: 2 layers x 4 channels x 16 x 12 pixels) it is 1536 floats, 6144 bytes, made in the first
 // fl_world_update that shows the frame. Measured: that update made no host allocation at all.
+// The header's size rule (firelook.h, "Memory"): a call with capacity 0 only asks for the size,
+// whatever the buffer pointer; it writes nothing and succeeds (issue 28: a non-null buffer with
+// capacity 0 used to be refused as too small).
+TEST_F(PluginApiWorld, CapacityZeroIsASizeQueryWithAnyBuffer) {
+    fl_look look{};
+    ASSERT_EQ(fl_look_from_json(kLookJson, 0, "test look", &look), FL_OK) << fl_last_error();
+    fl_instance inst{};
+    ASSERT_NO_FATAL_FAILURE(createPausedImageInstance(world_, package_, look, &inst));
+    ASSERT_EQ(fl_world_update(world_, 0.0), FL_OK);
+    constexpr uint16_t kUntouched16 = 0xBEEF;
+    constexpr float kUntouched = -12345.0f;
+    uint16_t u_scratch[4] = {kUntouched16, kUntouched16, kUntouched16, kUntouched16};
+    float f_scratch[4] = {kUntouched, kUntouched, kUntouched, kUntouched};
+    int32_t i_scratch[2] = {-7, -7};
+    double d_scratch[3] = {-7.0, -7.0, -7.0};
+    char c_scratch[2] = {'x', 'x'};
+    size_t n = 0;
+    uint32_t count = 0;
+    int32_t rank = 0;
+    ASSERT_EQ(fl_package_get_frame_u(package_, 4, u_scratch, 0, &n), FL_OK) << fl_last_error();
+    EXPECT_EQ(n, size_t(2) * 16 * 12 * 4);
+    ASSERT_EQ(fl_package_get_frame_depths(package_, 4, f_scratch, 0, &n), FL_OK) << fl_last_error();
+    EXPECT_GT(n, 0u);
+    ASSERT_EQ(fl_package_get_frames(package_, i_scratch, i_scratch, 0, &count), FL_OK) << fl_last_error();
+    EXPECT_EQ(count, 3u);
+    ASSERT_EQ(fl_package_get_lights(package_, d_scratch, f_scratch, 0, &count), FL_OK) << fl_last_error();
+    EXPECT_EQ(count, 1u);
+    ASSERT_EQ(fl_package_get_default_look_json(package_, c_scratch, 0, &n), FL_OK) << fl_last_error();
+    EXPECT_GT(n, 10u);
+    ASSERT_EQ(fl_instance_get_coefficients(world_, inst, f_scratch, 0, &rank), FL_OK) << fl_last_error();
+    EXPECT_EQ(rank, 7);
+    ASSERT_EQ(fl_instance_get_frame_u(world_, inst, u_scratch, 0, &n), FL_OK) << fl_last_error();
+    EXPECT_GT(n, 0u);
+    ASSERT_EQ(fl_instance_get_frame_depths(world_, inst, f_scratch, 0, &n), FL_OK) << fl_last_error();
+    EXPECT_GT(n, 0u);
+    for (uint16_t v : u_scratch) EXPECT_EQ(v, kUntouched16) << "a size query writes nothing";
+    for (float v : f_scratch) EXPECT_EQ(v, kUntouched) << "a size query writes nothing";
+    for (int32_t v : i_scratch) EXPECT_EQ(v, -7);
+    for (double v : d_scratch) EXPECT_EQ(v, -7.0);
+    EXPECT_EQ(c_scratch[0], 'x');
+    // A capacity that is not 0 and too small is still refused.
+    EXPECT_EQ(fl_package_get_frame_u(package_, 4, u_scratch, 4, &n), FL_ERROR_BUFFER_TOO_SMALL);
+    EXPECT_EQ(fl_look_release(look), FL_OK);
+}
+
 TEST_F(PluginApiWorld, DecodedFactorsComeFromTheHostAllocator) {
     fl_instance inst{};
     ASSERT_NO_FATAL_FAILURE(createPausedImageInstance(world_, package_, fl_look{}, &inst));
