@@ -270,13 +270,13 @@ FIRELOOK_API uint32_t fl_version(void) { return FIRELOOK_HEADER_VERSION; }
 
 FIRELOOK_API fl_result fl_init(const fl_init_desc* caller) {
     return guarded("fl_init", [&] {
-        if (!caller) fail(FL_ERROR_INVALID_ARGUMENT, "desc is null");
-        // The version before anything else: a mismatched header may lay the struct out differently.
-        const uint32_t size = plugin::callerStructSize(caller);
+        // struct_size first (every header version puts it first): 0 or below the first published
+        // size is FL_ERROR_STRUCT_SIZE, as for every struct (firelook.h); then the version, before the
+        // rest is read, since a mismatched header may lay the struct out differently.
+        checkStruct(caller, "desc");
         uint32_t version = 0;
-        if (size >= offsetof(fl_init_desc, header_version) + sizeof version)
-            std::memcpy(&version, reinterpret_cast<const char*>(caller) + offsetof(fl_init_desc, header_version),
-                        sizeof version);
+        std::memcpy(&version, reinterpret_cast<const char*>(caller) + offsetof(fl_init_desc, header_version),
+                    sizeof version);
         if (version == 0 || version / 10000 != FIRELOOK_VERSION_MAJOR || version / 100 % 100 > FIRELOOK_VERSION_MINOR)
             fail(FL_ERROR_VERSION_MISMATCH,
                  "the caller was compiled against FireLook header version " + std::to_string(version) +

@@ -199,9 +199,14 @@ TEST(PluginApiInit, VersionAndStructSizesAreChecked) {
     desc.sizeof_outputs_desc -= 4;
     EXPECT_EQ(fl_init(&desc), FL_ERROR_VERSION_MISMATCH);
     EXPECT_NE(std::string(fl_last_error()).find("fl_outputs_desc"), std::string::npos);
-    desc = fl_init_desc_defaults();
-    desc.struct_size = 12;
-    EXPECT_EQ(fl_init(&desc), FL_ERROR_STRUCT_SIZE);
+    // The desc's own struct_size follows the struct rule, also where it is too small to hold the
+    // header version (issue 28: 0 and 4 read as version 0 and were refused as a version mismatch).
+    for (const uint32_t size : {0u, 4u, 12u}) {
+        desc = fl_init_desc_defaults();
+        desc.struct_size = size;
+        EXPECT_EQ(fl_init(&desc), FL_ERROR_STRUCT_SIZE) << "struct_size " << size;
+        EXPECT_NE(std::string(fl_last_error()).find("struct_size"), std::string::npos) << fl_last_error();
+    }
     desc = fl_init_desc_defaults();
     desc.allocator.alloc = countingAlloc;  // free missing
     EXPECT_EQ(fl_init(&desc), FL_ERROR_INVALID_ARGUMENT);
@@ -278,8 +283,10 @@ TEST(PluginApiInit, OlderMinorNewerPatchAndLargerStructSizesAreAccepted) {
     desc.header_version = 0;
     EXPECT_EQ(fl_init(&desc), FL_ERROR_VERSION_MISMATCH);
     desc = fl_init_desc_defaults();
-    desc.struct_size = 4;  // too small to hold header_version: refused as a mismatch, never read past
-    EXPECT_EQ(fl_init(&desc), FL_ERROR_VERSION_MISMATCH);
+    // Too small to hold header_version: refused by the struct rule (FL_ERROR_STRUCT_SIZE, as the header's
+    // struct rule says; this returned FL_ERROR_VERSION_MISMATCH until issue 28), never read past.
+    desc.struct_size = 4;
+    EXPECT_EQ(fl_init(&desc), FL_ERROR_STRUCT_SIZE);
 
     // A newer caller: every struct larger, fl_init_desc itself with extra zeroed fields.
     struct NewerInitDesc {

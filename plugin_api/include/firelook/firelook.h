@@ -11,9 +11,11 @@
    1. Start-up. Fill an fl_init_desc with fl_init_desc_defaults() (which
       records this header's version and struct sizes, like IMGUI_CHECKVERSION),
       optionally add an allocator and a log callback, and call fl_init(). A
-      header the library cannot serve (another major, a newer minor, a struct
-      smaller than first published) is refused with FL_ERROR_VERSION_MISMATCH
-      instead of misreading your structs.
+      header the library cannot serve (another major, a newer minor, or a
+      sizeof_* in the desc below that struct's first published size) is
+      refused with FL_ERROR_VERSION_MISMATCH instead of misreading your
+      structs; a desc whose own struct_size is 0 or below its first published
+      size is refused with FL_ERROR_STRUCT_SIZE, as every struct is.
    2. Load a package: fl_package_load(path, &package), or from bytes the
       engine read from its own archive: fl_package_load_memory(), copied or
       borrowed (see there for how long borrowed bytes must live).
