@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -19,6 +20,7 @@
 #define XXH_INLINE_ALL
 #include <xxhash.h>
 #include "image/image_io.h"
+#include "package/container_writer.h"
 
 namespace {
 
@@ -257,6 +259,52 @@ TEST(Cli, TruncatedPackageIsRefusedByName) {
     r = runFirelook(dir, "render cut.firelook --frame 1 --out a.exr");
     expectOneLineError(r, "cut.firelook");
     EXPECT_FALSE(std::filesystem::exists(dir / "a.exr"));
+}
+
+// info reads a package's header, index and metadata; info --check also verifies every section's
+// checksum and decodes every frame (docs/cli.md). A byte flipped inside any frame section passes info
+// and fails --check with one line naming the file and the section; metadata that is not JSON fails
+// info itself.
+TEST(Cli, InfoCheckFindsEveryDamagedSection) {
+    TempDir dir;
+    bakeTiny(dir);
+    CommandResult r = runFirelook(dir, "info --check pkg.firelook");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("frames decode"), std::string::npos) << r.err;
+    const std::string good = readFile(dir / "pkg.firelook");
+    // The index (format.h): at the header's index_offset (offset 24), 64-byte entries with the
+    // section's frame at +4, offset at +16 and stored size at +24.
+    const auto u32 = [&](size_t at) { uint32_t v; std::memcpy(&v, good.data() + at, 4); return v; };
+    const auto u64 = [&](size_t at) { uint64_t v; std::memcpy(&v, good.data() + at, 8); return v; };
+    const uint64_t index = u64(24);
+    const uint32_t sections = u32(20);
+    int flipped = 0;
+    for (uint32_t i = 0; i < sections; ++i) {
+        const size_t entry = index + 64 * size_t{i};
+        if (u32(entry + 4) == 0xFFFFFFFFu || u64(entry + 24) == 0) continue;  // not a frame's, or empty
+        const uint64_t offset = u64(entry + 16), size = u64(entry + 24);
+        for (const uint64_t at : {offset, offset + size / 2, offset + size - 1}) {
+            std::string bad = good;
+            bad[at] = static_cast<char>(bad[at] ^ 0x10);
+            std::ofstream(dir / "bad.firelook", std::ios::binary).write(bad.data(), std::streamsize(bad.size()));
+            EXPECT_EQ(runFirelook(dir, "info bad.firelook").exit_code, 0) << "info does not read frame data";
+            r = runFirelook(dir, "info --check bad.firelook");
+            expectOneLineError(r, "bad.firelook");
+            EXPECT_NE(r.err.find("checksum"), std::string::npos) << r.err;
+            ++flipped;
+        }
+    }
+    EXPECT_GE(flipped, 6) << "the tiny package has frame sections to damage";
+    r = runFirelook(dir, "info --check '" + kSample + "'");
+    expectOneLineError(r, "--check takes a package");
+    // Metadata that is not JSON, with valid checksums (written by the container writer itself).
+    {
+        firelook::package::ContainerWriter writer(dir / "meta.firelook");
+        writer.addMetadata("{\"format\": \"firelook\", truncated");
+        writer.commit();
+    }
+    r = runFirelook(dir, "info meta.firelook");
+    expectOneLineError(r, "meta.firelook: the metadata section (META) is not valid JSON");
 }
 
 // Shards baked as separate commands, with different thread counts, merge into the one-shot bake's
