@@ -45,8 +45,8 @@ void addParabola(const std::vector<double>& x_s, int a, double x, double s, Axis
 // samples, and follows a saturating image (smoke that thickens as k grows) where linear
 // interpolation cuts the curve and renders dark (docs/model.md, "Between grid points"). The end
 // intervals use the one parabola they have; an axis of two samples is linear. Weights can be
-// negative (down to -1/8 on even samples, -1/3 on samples that double), so a blend can undershoot zero: the runtime clamps the
-// reconstructed colour and the fire lights' intensities at zero.
+// negative (down to -1/8 on even samples, -1/3 on samples that double), so a blend can undershoot
+// zero: the runtime clamps the reconstructed colour and the fire lights' intensities at zero.
 AxisWeights axisWeights(const std::vector<double>& x_s, double x) {
     AxisWeights out;
     const int last = static_cast<int>(x_s.size()) - 1;
