@@ -1,4 +1,5 @@
-// The sample viewer in batch mode (samples/viewer, README "Headless mode"), run under Xvfb:
+// The sample viewer in batch mode (samples/viewer, README "Headless mode"), run under an Xvfb of
+// each test's own (x_server.h):
 //  - its CPU-path screenshot equals `firelook render` of the same package, frame and look;
 //  - its GPU path equals its CPU path;
 //  - a keyframe file plays through fl_instance_set_keyframes (a key's frame shows the key's look);
@@ -26,6 +27,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../support/temp_dir.h"
+#include "x_server.h"
 #include "image/image_io.h"
 
 namespace {
@@ -39,25 +41,20 @@ struct ProcessResult {
 
 std::string quote(const std::string& s) { return "'" + s + "'"; }
 
-ProcessResult runShell(const std::string& command, const std::filesystem::path& log) {
-    const int status = std::system((command + " > " + quote(log.string()) + " 2>&1").c_str());
-    std::ifstream in(log);
+std::string readText(const std::filesystem::path& path) {
+    std::ifstream in(path);
     std::stringstream text;
     text << in.rdbuf();
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
+    return text.str();
+}
+
+ProcessResult runShell(const std::string& command, const std::filesystem::path& log) {
+    const int status = std::system((command + " > " + quote(log.string()) + " 2>&1").c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readText(log)};
 }
 
 bool onPath(const char* program) {
     return std::system(("command -v " + std::string(program) + " > /dev/null 2>&1").c_str()) == 0;
-}
-
-// How to reach an X server: our own Xvfb through xvfb-run when it exists (CI), else the DISPLAY
-// the tests were started under. Empty optional: none, the test skips.
-std::optional<std::string> displayPrefix() {
-    if (onPath("xvfb-run")) return std::string("xvfb-run -a -s '-screen 0 1280x800x24' ");
-    const char* display = std::getenv("DISPLAY");
-    if (display && *display) return std::string();
-    return std::nullopt;
 }
 
 // A fixture package: baked by ctest's fixture, or here with the same arguments when run by hand.
@@ -82,9 +79,15 @@ const std::string& sixWayPackage() {
 class Viewer : public ::testing::Test {
   protected:
     void SetUp() override {
-        const auto prefix = displayPrefix();
-        if (!prefix) GTEST_SKIP() << "no X server: neither xvfb-run nor DISPLAY (install xvfb)";
-        prefix_ = *prefix;
+        // Our own Xvfb when it is installed (CI), else the DISPLAY the tests were started under.
+        if (onPath("Xvfb")) {
+            x_server_ = firelook::testing::XServer::start((dir_ / "xvfb.log").string());
+            ASSERT_TRUE(x_server_) << "Xvfb did not start: " << readText(dir_ / "xvfb.log");
+            prefix_ = "DISPLAY=" + x_server_->display() + " ";
+        } else {
+            const char* display = std::getenv("DISPLAY");
+            if (!display || !*display) GTEST_SKIP() << "no X server: neither Xvfb nor DISPLAY (install xvfb)";
+        }
         ASSERT_TRUE(std::filesystem::exists(package())) << "the fixture package was not baked";
     }
 
@@ -111,8 +114,9 @@ class Viewer : public ::testing::Test {
         return firelook::image::readImage(out);
     }
 
-    std::string prefix_;
     firelook::testing::TempDir dir_;
+    std::unique_ptr<firelook::testing::XServer> x_server_;  // stopped before dir_ is removed
+    std::string prefix_;  // sets DISPLAY for the viewer, or empty: the inherited one
 };
 
 double peakRgb(const ImageRGBA& image) {
