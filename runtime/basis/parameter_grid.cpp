@@ -9,44 +9,47 @@
 namespace firelook::basis {
 namespace {
 
-// The grid samples one axis blends and their weights: up to 4 (a C1 cubic), 1 at a sample, outside
-// the range or on a collapsed axis.
+// The grid samples one axis blends and their weights: up to 5 (two cubics blended), 1 at a sample,
+// outside the range or on a collapsed axis.
 struct AxisWeights {
+    static constexpr int kMaxSamples = 5;
     int count = 0;
-    std::array<int, 4> index{};
-    std::array<double, 4> weight{};
+    std::array<int, kMaxSamples> index{};
+    std::array<double, kMaxSamples> weight{};
+    // Adds w to sample i's weight; a sample both polynomials use appears once.
     void add(int i, double w) {
-        index[count] = i;
-        weight[count] = w;
-        ++count;
+        int at = 0;
+        while (at < count && index[at] != i) ++at;
+        if (at == count) {
+            index[count] = i;
+            weight[count] = 0.0;
+            ++count;
+        }
+        weight[at] += w;
     }
 };
 
-// The Lagrange weights of the parabola through samples a, a+1, a+2, evaluated at x, scaled by s.
-void addParabola(const std::vector<double>& x_s, int a, double x, double s, AxisWeights& out) {
-    for (int i = a; i < a + 3; ++i) {
+// The Lagrange weights of the polynomial through samples first .. first + degree, evaluated at x,
+// scaled by s.
+void addPolynomial(const std::vector<double>& x_s, int first, int degree, double x, double s, AxisWeights& out) {
+    for (int i = first; i <= first + degree; ++i) {
         double w = s;
-        for (int j = a; j < a + 3; ++j)
+        for (int j = first; j <= first + degree; ++j)
             if (j != i) w *= (x - x_s[j]) / (x_s[i] - x_s[j]);
-        // A sample both parabolas use is added twice; merge it so each sample appears once.
-        int at = 0;
-        while (at < out.count && out.index[at] != i) ++at;
-        if (at < out.count)
-            out.weight[at] += w;
-        else
-            out.add(i, w);
+        out.add(i, w);
     }
 }
 
-// Between samples i and i+1 at t = (x - x_i) / (x_(i+1) - x_i): the parabola through i-1, i, i+1 blended
-// linearly into the one through i, i+1, i+2 (an Overhauser spline, Catmull-Rom's construction on
-// uneven samples), in the parameter itself. It is exact at the samples and for any quadratic in the
-// parameter (so for the thin-smoke image, linear in k), continuous in value and slope across
-// samples, and follows a saturating image (smoke that thickens as k grows) where linear
-// interpolation cuts the curve and renders dark (docs/model.md, "Between grid points"). The end
-// intervals use the one parabola they have; an axis of two samples is linear. Weights can be
-// negative (down to -1/8 on even samples, -1/3 on samples that double), so a blend can undershoot
-// zero: the runtime clamps the reconstructed colour and the fire lights' intensities at zero.
+// Between samples i and i+1 at t = (x - x_i) / (x_(i+1) - x_i): the cubic through i-2 .. i+1 blended
+// linearly into the cubic through i-1 .. i+2, each window moved inside the axis where it would leave
+// it (so an end interval, and every interval of a 4-sample axis, has one cubic). Interval i's right
+// window is interval i+1's left one, so the blend is continuous in value and slope across samples;
+// it is exact at the samples and for any cubic in the parameter (so for thin smoke, whose image is
+// linear in k). On fewer samples the degree drops: parabolas on 3 (blended the same way), a line on
+// 2. Cubic rather than parabolic because the image of smoke saturates as k grows and the parabolas
+// through doubling samples overshoot it by up to 0.5 % in the last interval, the cubic by 0.14 %
+// (docs/model.md, "Between grid points"). Weights can be negative, so a blend can undershoot zero:
+// the runtime clamps the reconstructed colour and the fire lights' intensities at zero.
 AxisWeights axisWeights(const std::vector<double>& x_s, double x) {
     AxisWeights out;
     const int last = static_cast<int>(x_s.size()) - 1;
@@ -61,14 +64,15 @@ AxisWeights axisWeights(const std::vector<double>& x_s, double x) {
     const int upper = static_cast<int>(std::upper_bound(x_s.begin(), x_s.end(), x) - x_s.begin());
     const int lower = upper - 1;
     const double t = (x - x_s[lower]) / (x_s[upper] - x_s[lower]);
-    if (last == 1) {
-        out.add(lower, 1.0 - t);
-        out.add(upper, t);
-        return out;
+    const int degree = std::min(3, last);
+    const auto window = [&](int first) { return std::clamp(first, 0, last - degree); };
+    const int left = window(lower - (degree - 1)), right = window(lower - (degree - 2));
+    if (left == right) {
+        addPolynomial(x_s, left, degree, x, 1.0, out);
+    } else {
+        addPolynomial(x_s, left, degree, x, 1.0 - t, out);
+        addPolynomial(x_s, right, degree, x, t, out);
     }
-    const bool has_left = lower >= 1, has_right = upper + 1 <= last;
-    if (has_left) addParabola(x_s, lower - 1, x, has_right ? 1.0 - t : 1.0, out);
-    if (has_right) addParabola(x_s, lower, x, has_left ? t : 1.0, out);
     return out;
 }
 

@@ -30,18 +30,18 @@ struct ParameterAxes {
     ExtinctionParams point(int index) const;
 };
 
-// Up to 4 x 4 x 4 grid points with non-zero weight; weights sum to 1 and can be negative.
+// Up to 5 x 5 x 5 grid points with non-zero weight; weights sum to 1 and can be negative.
 struct GridWeights {
-    static constexpr int kMaxPoints = 64;
+    static constexpr int kMaxPoints = 125;
     int count = 0;
     std::array<int, kMaxPoints> point{};
     std::array<float, kMaxPoints> weight{};
 };
 
-// Per axis a C1 piecewise cubic through the 4 samples around the request (two parabolas
-// blended, parameter_grid.cpp), exact at the samples and for any quadratic; an axis of two
-// samples is linear. A request outside an axis's range is clamped to its ends (the baked
-// range is what the package can reproduce).
+// Per axis a C1 piecewise polynomial through up to 5 samples around the request (two cubics
+// blended, parameter_grid.cpp), exact at the samples and for any cubic; an axis of three samples
+// blends parabolas (exact for quadratics), one of two samples is linear. A request outside an
+// axis's range is clamped to its ends (the baked range is what the package can reproduce).
 GridWeights interpolationWeights(const ParameterAxes& axes, const ExtinctionParams& theta);
 
 // Throws std::invalid_argument naming the axis if it is empty, unsorted or non-finite.

@@ -7,8 +7,9 @@
 //
 // What this guards: linear interpolation cut the saturating curve of smoke as k grows and rendered
 // these looks 1-2.6% dark (measured with the linear weights of commit 0688522 on this grid, looks
-// drawn by `firelook bench --split`: -0.63% to -2.56%); the per-axis cubic measured +0.13% to
-// +0.52% there. Margin 0.75%: fails at half the bias linear interpolation gave the worst looks, and
+// drawn by `firelook bench --split`: -0.63% to -2.56%); the parabola blend measured -0.30% to +0.53%
+// there, the cubic blend -0.25% to +0.45% (what is left is k_f's: its 3 samples have one parabola an
+// interval, docs/model.md; the k_s part of the first look is 0.01%). Margin 0.75%: fails at half the bias linear interpolation gave the worst looks, and
 // the tracer's photon noise in the mean (the two packages trace different grid points) is below
 // 0.05% at this size. CI time: about 70 s (2-core machine, release build).
 #include <gtest/gtest.h>
