@@ -3,8 +3,13 @@
 //
 // An id is 32 bits: kind (3 bits) | generation (11 bits, 1..2047) | index + 1
 // (18 bits). 0 is never valid (no kind is 0); an id of another kind, a freed
-// slot or an older generation is refused, so a destroyed object's handle is
-// detected until its slot has been reused 2047 times. Not synchronised.
+// slot or an older generation is refused. A slot whose generation is spent
+// (2047 uses) is retired, never reused, so a released handle never becomes
+// valid again, however often slots are reused (sokol_gfx wraps the generation
+// instead). The price: a pool makes at most kCapacity x 2047 = 5.4e8 objects
+// over its life (at 1,000 a second, 6 days without a restart), then refuses
+// new ones with Error(Limit) saying so; a 64-bit id would lift that, at an ABI
+// change of every handle struct. Not synchronised.
 #pragma once
 
 #include <cstdint>
@@ -43,13 +48,18 @@ class HandlePool {
     explicit HandlePool(HandleKind kind) : kind_(kind) {}
 
     bool full() const { return free_.empty() && slots_.size() >= kCapacity; }
-    size_t size() const { return slots_.size() - free_.size(); }
+    size_t size() const { return slots_.size() - free_.size() - retired_; }
+    size_t retired() const { return retired_; }  // slots whose generations are spent
 
     // Throws Error(Limit) when full(), so a caller can check before changing anything.
     void requireRoom() const {
-        if (full())
+        if (!full()) return;
+        if (retired_ == 0)
             throw Error(ErrorCode::Limit, std::string("too many ") + toString(kind_) + "s (the limit is " +
                                               std::to_string(kCapacity) + ")");
+        throw Error(ErrorCode::Limit, std::string("no ") + toString(kind_) + " handles left: " +
+                                          std::to_string(size()) + " live, " + std::to_string(retired_) +
+                                          " slots retired after 2047 uses each (handle_pool.h)");
     }
 
     uint32_t add(T value) {  // throws as requireRoom()
@@ -90,8 +100,12 @@ class HandlePool {
         T value = std::move(s.value);
         s.value = T{};
         s.live = false;
-        s.generation = s.generation == kGenerationMask ? 1 : s.generation + 1;
-        free_.push_back(index);
+        if (s.generation == kGenerationMask) {
+            ++retired_;  // a new generation would repeat an old one: the slot is never used again
+        } else {
+            ++s.generation;
+            free_.push_back(index);
+        }
         return value;
     }
 
@@ -138,6 +152,7 @@ class HandlePool {
     HandleKind kind_;
     std::vector<Slot> slots_;
     std::vector<uint32_t> free_;
+    size_t retired_ = 0;
 };
 
 }  // namespace firelook::world

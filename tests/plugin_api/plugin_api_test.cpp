@@ -602,6 +602,23 @@ TEST_F(PluginApiWorld, StaleAndInvalidHandlesAndWrongStructSizesNeverCrash) {
     EXPECT_NE(g_last_log.find("invalid"), std::string::npos);
 }
 
+TEST_F(PluginApiWorld, AReleasedHandleStaysInvalidAfterItsSlotIsReused100000Times) {
+    // The 11-bit generation used to wrap: the 2047th look made in a released look's slot gave the
+    // released handle back its meaning (issue 28). Spent slots are retired now (handle_pool.h).
+    fl_look first{};
+    ASSERT_EQ(fl_look_from_json(kLookJson, 0, nullptr, &first), FL_OK) << fl_last_error();
+    ASSERT_EQ(fl_look_release(first), FL_OK);
+    size_t size = 0;
+    for (int n = 1; n <= 100000; ++n) {
+        fl_look look{};
+        ASSERT_EQ(fl_look_from_json(kLookJson, 0, nullptr, &look), FL_OK) << fl_last_error();
+        ASSERT_NE(look.id, first.id) << "reuse " << n;
+        ASSERT_EQ(fl_look_to_json(first, nullptr, 0, &size), FL_ERROR_INVALID_HANDLE) << "reuse " << n;
+        ASSERT_EQ(fl_look_release(look), FL_OK);
+        ASSERT_EQ(fl_look_release(look), FL_ERROR_INVALID_HANDLE) << "reuse " << n;
+    }
+}
+
 TEST_F(PluginApiWorld, LooksAndPackagesWithErrorsReportCodesAndMessages) {
     fl_look look{};
     EXPECT_EQ(fl_look_from_json("{ not json", 0, "broken.json", &look), FL_ERROR_LOOK);

@@ -412,6 +412,27 @@ TEST(World, StaleAndInvalidHandlesAreDetected) {
     EXPECT_THROW(world.state(0xFFFFF), InvalidHandle);
 }
 
+TEST(HandlePool, AReleasedHandleNeverBecomesValidAgain) {
+    // One slot released and reused 100,000 times: with an 11-bit generation that wraps, the first
+    // handle would be valid again at the 2047th reuse. A spent slot is retired instead (handle_pool.h).
+    HandlePool<int> pool(HandleKind::Look);
+    const uint32_t first = pool.add(0);
+    pool.take(first);
+    uint32_t previous = first;
+    for (int n = 1; n <= 100000; ++n) {
+        const uint32_t id = pool.add(n);
+        ASSERT_EQ(pool.find(first), nullptr) << "reuse " << n;
+        ASSERT_EQ(pool.find(previous), nullptr) << "reuse " << n;
+        ASSERT_NE(id, first) << "reuse " << n;
+        ASSERT_EQ(*pool.find(id), n);
+        pool.take(id);
+        previous = id;
+    }
+    EXPECT_EQ(pool.size(), 0u);
+    // Each slot serves generations 1..2047: 100,001 objects retire 48 slots (48 x 2047 = 98,256).
+    EXPECT_EQ(pool.retired(), 100001u / 2047u);
+}
+
 TEST(World, SwapRemoveKeepsOtherInstancesIntact) {
     TempDir dir;
     auto package = makePackage(dir);

@@ -45,7 +45,11 @@
      world, instance), an index and a generation; id 0 is never valid. A
      released or destroyed object's handle, a handle of another kind, and an
      instance handle passed with a world that did not create it are detected
-     (FL_ERROR_INVALID_HANDLE), never dereferenced.
+     (FL_ERROR_INVALID_HANDLE), never dereferenced. A released handle never
+     becomes valid again: a slot whose 11-bit generation is spent is retired,
+     so each kind makes at most 5.4e8 objects over the process's life
+     (handles stay stale across fl_shutdown and fl_init; at 1,000 a second,
+     six days), then creation fails with FL_ERROR_LIMIT.
    - Structs may grow; each (but fl_keyframe) starts with uint32_t
      struct_size = sizeof the caller's struct. The library copies
      min(struct_size, its own sizeof) bytes in and out: fields an older
