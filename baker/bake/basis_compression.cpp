@@ -6,6 +6,8 @@
 #include <glm/gtc/packing.hpp>
 #include <stdexcept>
 
+#include "basis/source_balance.h"
+
 namespace firelook::bake {
 namespace {
 
@@ -17,7 +19,7 @@ Eigen::Map<const RowMatrix> basisMatrix(const FrameBasis& basis) {
 
 }  // namespace
 
-FrameSpectrum frameSpectrum(const FrameBasis& basis) {
+FrameSpectrum frameSpectrum(const FrameBasis& basis, const BasisSources& sources) {
     const int columns = basis.columns;
     const Eigen::Map<const RowMatrix> b = basisMatrix(basis);
 
@@ -38,9 +40,20 @@ FrameSpectrum frameSpectrum(const FrameBasis& basis) {
     }
     flush();
 
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(gram);
     FrameSpectrum spectrum;
     spectrum.columns = columns;
+    spectrum.balance.assign(columns, 1.0);
+    if (sources.columns_per_point > 0 && columns % sources.columns_per_point == 0) {
+        // The Gram matrix of B D, D the per-source factors (basis/source_balance.h): D G D.
+        std::vector<double> energy(sources.columns_per_point, 0.0);
+        for (int j = 0; j < columns; ++j) energy[j % sources.columns_per_point] += gram(j, j);
+        const std::vector<double> factor = basis::sourceBalance(energy, sources.bins);
+        for (int j = 0; j < columns; ++j) spectrum.balance[j] = factor[j % sources.columns_per_point];
+        const Eigen::Map<const Eigen::VectorXd> d(spectrum.balance.data(), columns);
+        const Eigen::MatrixXd full = gram.selfadjointView<Eigen::Lower>();
+        gram = d.asDiagonal() * full * d.asDiagonal();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(gram);
     const Eigen::VectorXd lambda = eigen.eigenvalues().cwiseMax(0.0);
     spectrum.eigenvalues.assign(lambda.data(), lambda.data() + lambda.size());
     spectrum.eigenvectors.assign(eigen.eigenvectors().data(), eigen.eigenvectors().data() + eigen.eigenvectors().size());
@@ -88,15 +101,19 @@ CompressedFrame compressFrameBasis(const FrameBasis& basis, int frame, const Fra
         v.col(m) = vectors.col(columns - 1 - m).cast<float>();
         sigma[m] = static_cast<float>(std::sqrt(lambda[columns - 1 - m]));
     }
-    // U = B V S^-1, pixel-major like B.
-    RowMatrix u = b * v;
+    // The SVD is of B D (D = spectrum.balance): U = B D V S^-1, pixel-major like B, and the stored
+    // S V^T D^-1, so that U S V^T D^-1 is B's truncation.
+    Eigen::VectorXf d(columns);
+    for (int j = 0; j < columns; ++j) d[j] = static_cast<float>(spectrum.balance.empty() ? 1.0 : spectrum.balance[j]);
+    RowMatrix u = b * (d.asDiagonal() * v);
     for (int m = 0; m < rank; ++m) u.col(m) /= sigma[m];
 
     out.factors.svt.resize(static_cast<size_t>(columns) * rank);
     for (int j = 0; j < columns; ++j)
-        for (int m = 0; m < rank; ++m) out.factors.svt[static_cast<size_t>(j) * rank + m] = sigma[m] * v(j, m);
+        for (int m = 0; m < rank; ++m)
+            out.factors.svt[static_cast<size_t>(j) * rank + m] = static_cast<float>(double(sigma[m]) * v(j, m) / d[j]);
 
-    // Half precision U; its error in B is ||(U_half - U) S||_F because V is orthonormal.
+    // Half precision U; its error in B D is ||(U_half - U) S||_F because V is orthonormal.
     out.factors.u_half.resize(static_cast<size_t>(pixels) * rank);
     double quantisation = 0.0;
     out.column_quantisation.assign(rank, 0.0);
@@ -145,8 +162,9 @@ CompressedFrame leadingColumns(const CompressedFrame& frame, int rank) {
     return out;
 }
 
-CompressedFrame compressFrameBasis(const FrameBasis& basis, int frame, const CompressionSettings& settings) {
-    const FrameSpectrum spectrum = frameSpectrum(basis);
+CompressedFrame compressFrameBasis(const FrameBasis& basis, int frame, const CompressionSettings& settings,
+                                   const BasisSources& sources) {
+    const FrameSpectrum spectrum = frameSpectrum(basis, sources);
     return compressFrameBasis(basis, frame, spectrum, truncationRank(spectrum, settings));
 }
 

@@ -23,21 +23,31 @@ struct CompressionSettings {
 
 struct CompressedFrame {
     basis::FrameFactors factors;
-    double truncation_error = 0.0;    // relative Frobenius error of the rank-k truncation
+    double truncation_error = 0.0;    // relative Frobenius error of the rank-k truncation (of B D)
     double quantisation_error = 0.0;  // relative Frobenius error added by storing U in half precision
     std::vector<double> singular_values;  // all of them, descending
     std::vector<double> column_quantisation;  // per kept column, its share of quantisation_error^2
 };
 
-// The eigen-decomposition of B^T B, made once per frame so that several truncations of one traced
-// basis can be tried (storage_target.h) without decomposing again.
+// Which columns belong to which light source (column = point * columns_per_point + c; c < bins
+// is emission bin c, then one per light). With columns_per_point 0 every column weighs the same.
+struct BasisSources {
+    int columns_per_point = 0;
+    int bins = 0;
+};
+
+// The eigen-decomposition of (B D)^T (B D), made once per frame so that several truncations of one
+// traced basis can be tried (storage_target.h) without decomposing again. D scales each source's
+// columns to the same energy (basis/source_balance.h), so the truncation error bounds every
+// source's share, not only the brightest source's.
 struct FrameSpectrum {
     int columns = 0;
+    std::vector<double> balance;       // D, one factor per column (1 without sources)
     std::vector<double> eigenvectors;  // columns x columns, column-major, in the eigenvalues' order
     std::vector<double> eigenvalues;   // ascending, clamped at 0 (rounding can dip below)
-    double total = 0.0;                // ||B||_F^2
+    double total = 0.0;                // ||B D||_F^2
 };
-FrameSpectrum frameSpectrum(const FrameBasis& basis);
+FrameSpectrum frameSpectrum(const FrameBasis& basis, const BasisSources& sources = {});
 
 // The smallest rank (at most max_rank) whose dropped energy is within the target relative error.
 int truncationRank(const FrameSpectrum& spectrum, const CompressionSettings& settings);
@@ -50,6 +60,7 @@ CompressedFrame compressFrameBasis(const FrameBasis& basis, int frame, const Fra
 CompressedFrame leadingColumns(const CompressedFrame& frame, int rank);
 
 // The same with the rank from `settings` (truncationRank).
-CompressedFrame compressFrameBasis(const FrameBasis& basis, int frame, const CompressionSettings& settings);
+CompressedFrame compressFrameBasis(const FrameBasis& basis, int frame, const CompressionSettings& settings,
+                                   const BasisSources& sources = {});
 
 }  // namespace firelook::bake

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "basis/source_balance.h"
 #include "package/container_writer.h"
 
 namespace firelook::bake {
@@ -192,7 +193,7 @@ FramePrecision chooseFramePrecision(const FrameBasis& basis, int frame, const ba
                                     const CompressionSettings& compression, const basis::FrameCodecSettings& storage,
                                     const StorageTarget& target, uint64_t frame_share_bytes,
                                     const std::function<bool()>& keep_going) {
-    const FrameSpectrum spectrum = frameSpectrum(basis);
+    const FrameSpectrum spectrum = frameSpectrum(basis, {description.columnsPerPoint(), description.bins.count});
     CandidateEncoder encoder(description, keep_going, target.active());
     const FrameSource source{spectrum, [&](int rank) { return compressFrameBasis(basis, frame, spectrum, rank); }};
     if (target.basis_error > 0.0) return forError(source, compression, storage, target.basis_error, encoder);
@@ -202,14 +203,24 @@ FramePrecision chooseFramePrecision(const FrameBasis& basis, int frame, const ba
 }
 
 StoredFrameErrors storedFrameErrors(const basis::FrameFactors& factors, double truncation_error,
-                                    double storage_error) {
+                                    double storage_error, const BasisSources& sources) {
     StoredFrameErrors out;
     out.frame.factors = factors;
-    // Row m of S V^T has the norm s_m (U's columns are orthonormal up to their storage error).
+    // Row m of S V^T D (D balances the sources as the bake's SVD did, basis/source_balance.h) has
+    // the norm s_m (U's columns are orthonormal up to their storage error).
+    const size_t columns = static_cast<size_t>(factors.columns), kinds = static_cast<size_t>(sources.columns_per_point);
+    std::vector<double> balance(columns, 1.0);
+    if (kinds > 0 && columns % kinds == 0) {
+        std::vector<double> kind_energy(kinds, 0.0);
+        for (size_t j = 0; j < columns; ++j)
+            for (int m = 0; m < factors.rank; ++m) kind_energy[j % kinds] += double(factors.svt[j * factors.rank + m]) * factors.svt[j * factors.rank + m];
+        const std::vector<double> factor = basis::sourceBalance(kind_energy, sources.bins);
+        for (size_t j = 0; j < columns; ++j) balance[j] = factor[j % kinds];
+    }
     std::vector<double> energy(static_cast<size_t>(factors.rank), 0.0);
-    for (size_t j = 0; j < static_cast<size_t>(factors.columns); ++j)
+    for (size_t j = 0; j < columns; ++j)
         for (size_t m = 0; m < energy.size(); ++m) {
-            const double v = factors.svt[j * factors.rank + m];
+            const double v = factors.svt[j * factors.rank + m] * balance[j];
             energy[m] += v * v;
         }
     double kept = 0.0;

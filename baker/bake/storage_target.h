@@ -72,7 +72,7 @@ struct StoredFrameErrors {
     FrameSpectrum spectrum;  // no eigenvectors: the stored singular values squared and the total
 };
 StoredFrameErrors storedFrameErrors(const basis::FrameFactors& factors, double truncation_error,
-                                    double storage_error);
+                                    double storage_error, const BasisSources& sources = {});
 
 // chooseFramePrecision for a stored frame.
 FramePrecision chooseStoredFramePrecision(const StoredFrameErrors& stored, const basis::BakeDescription& description,

@@ -32,7 +32,8 @@ nlohmann::ordered_json storedEntry(int frame, const basis::StoredFrame& stored) 
 // The errors the package records for a frame, relative to the traced basis: the bake's truncation
 // and storage errors (META "errors"), and an earlier repack's storage error on top (they add in
 // squares). A package that records none (written by other tools) counts as exact.
-bake::StoredFrameErrors storedFrameErrors(const nlohmann::ordered_json& meta, int frame, const basis::FrameFactors& factors) {
+bake::StoredFrameErrors storedFrameErrors(const nlohmann::ordered_json& meta, int frame, const basis::FrameFactors& factors,
+                                         const basis::BakeDescription& description) {
     double truncation = 0.0, storage = 0.0;
     for (const auto& e : meta.value("errors", nlohmann::ordered_json::array()))
         if (e.value("frame", -1) == frame) {
@@ -45,7 +46,7 @@ bake::StoredFrameErrors storedFrameErrors(const nlohmann::ordered_json& meta, in
                 storage = std::hypot(storage, e.value("storage_relative_error", 0.0));
                 truncation = std::max(truncation, e.value("svd_truncation_relative_error", 0.0));
             }
-    return bake::storedFrameErrors(factors, truncation, storage);
+    return bake::storedFrameErrors(factors, truncation, storage, {description.columnsPerPoint(), description.bins.count});
 }
 
 }  // namespace
@@ -100,7 +101,7 @@ void registerRepackCommand(CLI::App& app) {
             const int frame = d.frames[i].frame;
             nlohmann::ordered_json entry;
             if (target.active()) {
-                const bake::StoredFrameErrors errors = storedFrameErrors(extra, frame, in.loadFrame(frame));
+                const bake::StoredFrameErrors errors = storedFrameErrors(extra, frame, in.loadFrame(frame), d);
                 const bake::FramePrecision chosen = bake::chooseStoredFramePrecision(
                     errors, d, compression, args->storage, target, share,
                     [] { return !interruptRequested(); });

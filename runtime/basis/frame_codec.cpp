@@ -10,6 +10,7 @@
 #include <string>
 
 #include "basis/simd.h"
+#include "basis/source_balance.h"
 
 namespace firelook::basis {
 namespace {
@@ -17,8 +18,13 @@ namespace {
 // Payload version: 3 leaves out the items that are all zero (most pixels lie outside the fire's
 // footprint), so neither zstd nor the decoder spends time on them; 2 stored every item's codes
 // together (a pixel's rank values, a ray's depth planes), so the decoder undoes the prediction of
-// all planes at once; 1 stored plane after plane. All three are read.
-constexpr uint32_t kCodecVersion = 3;
+// all planes at once; 1 stored plane after plane. 4 stores one S V^T step per column of a grid
+// point (each light source on its own grid, basis/source_balance.h); its UFAC and ODEP payloads
+// are version 3's. All four are read.
+constexpr uint32_t kCodecVersion = 4;
+// What SVTF's first f64 holds from version 4 on, where versions 1-3 held the one step (a step of
+// 0 is refused by them, so an older reader names the payload instead of misreading it).
+constexpr double kPerColumnSteps = 0.0;
 // U and S V^T share the basis error: each adds half of its square.
 constexpr double kPerFactor = 0.70710678118654752;
 
@@ -248,6 +254,9 @@ double uniformGridStep(double target, double count, double largest) {
     return step > 0.0 ? step : 1.0;  // nothing to store: any step
 }
 
+// A stored factor's value, 0 where it is not finite (no NaN reaches a grid).
+double finiteOrZero(float v) { return std::isfinite(v) ? v : 0.0; }
+
 // x on that grid, adding its squared rounding error to `error2`.
 int16_t onGrid(double x, double step, double& error2) {
     const double q = std::clamp(std::round(x / step), -32767.0, 32767.0);
@@ -326,11 +335,31 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
         throw std::invalid_argument("frame codec: error bounds must be positive");
     EncodedFrame out;
 
-    // U as W = U S on one grid. S from the rows of S V^T (V is orthonormal).
+    // Both factors are measured on the basis with its sources balanced, B D (basis/source_balance.h):
+    // D from the energy of each column kind in S V^T (U's columns are orthonormal, so a column's
+    // energy in B is its energy in S V^T).
+    const size_t columns = static_cast<size_t>(description.columnCount());
+    const int kinds = description.columnsPerPoint();
+    std::vector<double> balance;  // per column kind
+    {
+        std::vector<double> energy(kinds, 0.0);
+        for (size_t j = 0; j < columns; ++j)
+            for (int k = 0; k < rank; ++k) {
+                const double v = finiteOrZero(factors.svt[j * rank + k]);
+                energy[j % kinds] += v * v;
+            }
+        balance = sourceBalance(energy, description.bins.count);
+    }
+
+    // U as W = U S on one grid, S the singular values of B D: the norms of the rows of S V^T D
+    // (V is orthonormal).
     {
         std::vector<double> sigma(rank, 0.0);
-        for (size_t j = 0; j < static_cast<size_t>(description.columnCount()); ++j)
-            for (int k = 0; k < rank; ++k) sigma[k] += double(factors.svt[j * rank + k]) * factors.svt[j * rank + k];
+        for (size_t j = 0; j < columns; ++j)
+            for (int k = 0; k < rank; ++k) {
+                const double v = finiteOrZero(factors.svt[j * rank + k]) * balance[j % kinds];
+                sigma[k] += v * v;
+            }
         double norm2 = 0.0, largest = 0.0;
         for (int k = 0; k < rank; ++k) {
             sigma[k] = std::sqrt(sigma[k]);
@@ -371,29 +400,34 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
         out.u = w.take();
     }
 
-    // S V^T on one grid as well: ||dB||_F = ||U dSVT||_F = ||dSVT||_F. Per coefficient k, the
+    // S V^T D on one grid, so S V^T with one step per column kind (the grid's step over that kind's
+    // factor): ||d(B D)||_F = ||U d(S V^T D)||_F = ||d(S V^T D)||_F. Per coefficient k, the
     // columns form an image of (bins + lights) x grid points, whose neighbours are alike.
     {
-        const size_t columns = static_cast<size_t>(description.columnCount());
         double norm2 = 0.0, largest = 0.0;
-        for (float v : factors.svt) {
-            const double x = std::isfinite(v) ? v : 0.0;
-            norm2 += x * x;
-            largest = std::max(largest, std::abs(x));
-        }
+        for (size_t j = 0; j < columns; ++j)
+            for (int k = 0; k < rank; ++k) {
+                const double x = finiteOrZero(factors.svt[j * rank + k]) * balance[j % kinds];
+                norm2 += x * x;
+                largest = std::max(largest, std::abs(x));
+            }
         const double step =
             uniformGridStep(kPerFactor * settings.basis_error * std::sqrt(norm2), double(columns) * rank, largest);
         out.svt_step = step;
+        std::vector<double> steps(kinds);
+        for (int c = 0; c < kinds; ++c) steps[c] = step / balance[c];
         ByteWriter w;
-        w.put<double>(step);
+        w.put<double>(kPerColumnSteps);
+        for (double s : steps) w.put<double>(s);
         std::vector<int16_t> plane(columns);
         std::vector<uint16_t> codes;
         codes.reserve(columns * rank);
-        double error2 = 0.0;
+        double error2 = 0.0;  // in B D
         for (int k = 0; k < rank; ++k) {
             for (size_t j = 0; j < columns; ++j) {
-                const float v = factors.svt[j * rank + k];
-                plane[j] = onGrid(std::isfinite(v) ? v : 0.0, step, error2);
+                double cell_error2 = 0.0;
+                plane[j] = onGrid(finiteOrZero(factors.svt[j * rank + k]), steps[j % kinds], cell_error2);
+                error2 += cell_error2 * balance[j % kinds] * balance[j % kinds];
             }
             predictPlane(plane.data(), description.columnsPerPoint(), description.axes.pointCount(), nullptr, codes);
         }
@@ -1011,8 +1045,12 @@ void decodeResidentSvt(const BakeDescription& description, int frame, int rank, 
     setShape(description, frame, rank, f);
     const size_t columns = static_cast<size_t>(f.columns), count = columns * rank;
     ByteReader in(svt, sectionName(source, frame, "SVTF"));
-    const double step = in.get<double>();
-    if (!(step > 0.0) || !std::isfinite(step)) in.fail("has an invalid step");
+    const int kinds = description.columnsPerPoint();
+    std::vector<double> steps(kinds, in.get<double>());  // versions 1-3: one step
+    if (steps.empty() || steps[0] == kPerColumnSteps)
+        for (double& s : steps) s = in.get<double>();
+    for (double s : steps)
+        if (!(s > 0.0) || !std::isfinite(s)) in.fail("has an invalid step");
     const auto* lo = reinterpret_cast<const uint8_t*>(in.need(count * 2));
     const uint8_t* hi = lo + count;
     in.expectEnd();
@@ -1026,7 +1064,7 @@ void decodeResidentSvt(const BakeDescription& description, int frame, int rank, 
     decodeImage(codes.stream, 0, rank, stride, description.columnsPerPoint(), description.axes.pointCount(),
                 allItems(columns), items.data());
     for (size_t j = 0; j < columns; ++j)
-        for (int k = 0; k < rank; ++k) f.svt[j * rank + k] = static_cast<float>(items[j * stride + k] * step);
+        for (int k = 0; k < rank; ++k) f.svt[j * rank + k] = static_cast<float>(items[j * stride + k] * steps[j % kinds]);
 }
 
 void decodeResidentDepths(const BakeDescription& description, int frame, int rank, std::span<const std::byte> depths,

@@ -7,7 +7,7 @@
 // rays, so light order m is m - 1 passes; emission order m is m passes.
 // Built, not a ctest test: it is how the scattered-light bias of issue 27 was found.
 //   scatter_order_report SEQUENCE FRAME WxH T_c k_s k_f albedo SPP [key=value ...]
-//   ORDERS="01a" in the environment limits the cuts (digits, a = all).
+//   ORDERS="01a" in the environment limits the cuts (digits, a = all); CLAMP_EXTREME=1 clamps extreme values.
 //   keys: the trace settings cell_voxels, max_cells_per_axis, light_points_per_axis, step_voxels, photons_primary,
 //         photons_per_order, max_orders (for the "all" column), order_tolerance, seed; up=z|y
 #include <climits>
@@ -63,7 +63,8 @@ int main(int argc, char** argv) {
         else if (key == "up") options.up = kv.substr(eq + 1) == "y" ? render::UpAxis::Y : render::UpAxis::Z;
         else return std::fprintf(stderr, "unknown key: %s\n", key.c_str()), 2;
     }
-    const vdb::VdbSequence sequence = vdb::VdbSequence::open(argv[1]);
+    // CLAMP_EXTREME=1 reads as --clamp-extreme does (the hard case of four 1e30 voxels).
+    const vdb::VdbSequence sequence = vdb::VdbSequence::open(argv[1], {.clamp_extreme = std::getenv("CLAMP_EXTREME") != nullptr});
     std::tie(options.width, options.height) = bake::parseSize(argv[3]);
     const bake::SceneSetup scene = bake::resolveScene(sequence, options);
     const render::Medium medium = bake::mediumFromFrame(sequence.load(frame));

@@ -10,6 +10,7 @@
 #include <random>
 
 #include "basis/recombine.h"
+#include "basis/source_balance.h"
 #include "codec_test_frames.h"
 
 namespace firelook::basis {
@@ -102,6 +103,35 @@ TEST(FrameCodec, UOnItsGridAndSvtExact) {
     EXPECT_LE(std::hypot(encoded.u_error, encoded.svt_error), settings.basis_error);
     for (size_t i = 0; i < original.svt.size(); ++i)
         EXPECT_LE(std::abs(decoded.svt[i] - original.svt[i]), 0.5 * encoded.svt_step * (1 + 1e-6)) << i;
+}
+
+TEST(FrameCodec, EverySourceKeepsItsShareOfTheBound) {
+    // The light's columns 1e-6 of the emission's (issue 28: clamped extreme densities made the
+    // emission 1e5 times the sun). One S V^T step for all columns rounded every light coefficient
+    // to 0; one step per column kind (basis/source_balance.h) keeps the light within
+    // kMaxSourceRatio times the bound, and the emission within the bound.
+    const BakeDescription d = codecDescription(32, 24, 1);
+    FrameFactors original = codecFactors(d, 6, 5);
+    const int kinds = d.columnsPerPoint(), light = d.bins.count;  // the one light's column kind
+    for (int j = 0; j < d.columnCount(); ++j)
+        if (j % kinds == light)
+            for (int k = 0; k < 6; ++k) original.svt[j * 6 + k] *= 1e-6f;
+    FrameCodecSettings settings;
+    settings.basis_error = 0.001;
+    const EncodedFrame encoded = encodeFrame(d, original, settings);
+    const FrameFactors decoded = decodeFrame(d, 3, 6, encoded.u, encoded.svt, encoded.depths, "test");
+    double error2[2] = {}, norm2[2] = {};
+    for (int j = 0; j < d.columnCount(); ++j)
+        for (int k = 0; k < 6; ++k) {
+            const int source = j % kinds == light ? 1 : 0;
+            const double a = original.svt[j * 6 + k], b = decoded.svt[j * 6 + k];
+            error2[source] += (a - b) * (a - b);
+            norm2[source] += a * a;
+        }
+    ASSERT_GT(norm2[1], 0.0);
+    EXPECT_LE(std::sqrt(error2[0] / norm2[0]), settings.basis_error) << "emission";
+    EXPECT_LE(std::sqrt(error2[1] / norm2[1]), kMaxSourceRatio * settings.basis_error) << "light";
+    EXPECT_LE(std::hypot(encoded.u_error, encoded.svt_error), settings.basis_error);
 }
 
 TEST(FrameCodec, SameBytesAndDamageRefused) {

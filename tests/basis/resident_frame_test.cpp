@@ -82,12 +82,13 @@ TEST(ResidentFrame, ReconstructsAsTheExpandedFrame) {
     }
 }
 
-// tests/data/basis/codec1_frames.bin and codec2_frames.bin hold the three payloads the encoders of
-// codec versions 1 (plane after plane) and 2 (each item's codes together, as two byte planes)
-// wrote for codecFactors(codecDescription(13, 7, S), 4, 11 + S) at alpha_error 0.002, footprint_error
-// 0.001, for S = 9 and 6: u32 S, u32 rank, then each payload as u32 size and bytes. The
-// quantisation is unchanged since, so today's payloads of the same factors must decode to
-// exactly the same values.
+// tests/data/basis/codec1_frames.bin, codec2_frames.bin and codec3_frames.bin hold the three
+// payloads the encoders of codec versions 1 (plane after plane), 2 (each item's codes together, as
+// two byte planes) and 3 (one S V^T step; written by commit b66cc3c's encodeFrame) wrote for
+// codecFactors(codecDescription(13, 7, S), 4, 11 + S) at alpha_error 0.002, footprint_error 0.001,
+// for S = 9 and 6: u32 S, u32 rank, then each payload as u32 size and bytes. The quantisation is
+// unchanged since for factors whose sources lie within kMaxSourceRatio (these do), so today's
+// payloads of the same factors must decode to exactly the same values.
 void expectOldPayloadsDecode(const char* name, uint32_t version) {
     std::ifstream in(std::string(FIRELOOK_TEST_DATA_DIR "/basis/") + name, std::ios::binary);
     ASSERT_TRUE(in) << name;
@@ -143,6 +144,7 @@ void expectOldPayloadsDecode(const char* name, uint32_t version) {
 
 TEST(ResidentFrame, DecodesCodec1Payloads) { expectOldPayloadsDecode("codec1_frames.bin", 1); }
 TEST(ResidentFrame, DecodesCodec2Payloads) { expectOldPayloadsDecode("codec2_frames.bin", 2); }
+TEST(ResidentFrame, DecodesCodec3Payloads) { expectOldPayloadsDecode("codec3_frames.bin", 3); }
 
 TEST(ResidentFrame, AReusedFrameDecodesLikeAFreshOne) {
     const BakeDescription d = codecDescription(16, 9, 4);

@@ -16,6 +16,7 @@
 #include "../support/command.h"
 #include "../support/tiny_bake_config.h"
 #include "../vdb/vdb_test_files.h"
+#include "image/image_io.h"
 
 namespace {
 
@@ -163,6 +164,38 @@ TEST(CliDataChecks, ImplausibleValuesAreRefusedUnlessClamped) {
               std::vector<std::string>{"seq/fire_0001.vdb: temperature: 1 value beyond +-1e+06 clamped to +-1e+06"});
     r = runFirelook(hot, "info seq --clamp-extreme --strict");
     expectExitOneWithOneErrorLine(r, "temperature: 1 value beyond +-1e+06 (refused by --strict");
+}
+
+TEST(CliDataChecks, ClampedExtremeDensityBakesLikeTheReference) {
+    // Four voxels of density 1e30, clamped to 1e6, in a block of density 1 (issue 28). They fill
+    // the density's 99th percentile, so the derived extinctions are 1e-5 and the emission stops
+    // with them: the emission columns came out 1e5 times the sun's, and the SVD and the S V^T grid,
+    // bounding error against the whole basis, dropped the sun's light (rendered 0 where the
+    // reference has 43% of the image). The sources are balanced now (basis/source_balance.h).
+    // Measured: +1.6 / +2.1 / +2.1% per channel (the sun's part alone +0.4%). Margin 5% (the
+    // issue's bar): the reference's noise of the mean at 16x16 and 256 spp is about 0.5%.
+    TempDir dir;
+    Voxels density = block(1.0f);
+    for (int v : {7, 50, 101, 180}) density[v].second = 1e30f;
+    writeFrame(dir / "seq", 1, density, ramp());
+    CommandResult r = runFirelook(dir, "bake seq --size 16x16 --clamp-extreme -o huge.firelook");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = runFirelook(dir, "render huge.firelook --frame 1 -o baked.exr");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = runFirelook(dir, "reference seq --frame 1 --size 16x16 --spp 256 --clamp-extreme -o reference.exr");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const firelook::image::ImageRGBA baked = firelook::image::readImage(dir / "baked.exr");
+    const firelook::image::ImageRGBA reference = firelook::image::readImage(dir / "reference.exr");
+    ASSERT_EQ(baked.pixels.size(), reference.pixels.size());
+    for (int c = 0; c < 4; ++c) {
+        double b = 0.0, ref = 0.0;
+        for (size_t p = c; p < baked.pixels.size(); p += 4) {
+            b += baked.pixels[p];
+            ref += reference.pixels[p];
+        }
+        ASSERT_GT(ref, 0.0) << "channel " << c;
+        EXPECT_NEAR(b / ref, 1.0, 0.05) << "channel " << c << ": baked mean " << b << ", reference " << ref;
+    }
 }
 
 TEST(CliDataChecks, GapsAreReportedByEveryCommandAndRefusedUnderStrict) {
