@@ -209,18 +209,14 @@ StoredFrameErrors storedFrameErrors(const basis::FrameFactors& factors, double t
     // Row m of S V^T D (D balances the sources as the bake's SVD did, basis/source_balance.h) has
     // the norm s_m (U's columns are orthonormal up to their storage error).
     const size_t columns = static_cast<size_t>(factors.columns), kinds = static_cast<size_t>(sources.columns_per_point);
-    std::vector<double> balance(columns, 1.0);
-    if (kinds > 0 && columns % kinds == 0) {
-        std::vector<double> kind_energy(kinds, 0.0);
-        for (size_t j = 0; j < columns; ++j)
-            for (int m = 0; m < factors.rank; ++m) kind_energy[j % kinds] += double(factors.svt[j * factors.rank + m]) * factors.svt[j * factors.rank + m];
-        const std::vector<double> factor = basis::sourceBalance(kind_energy, sources.bins);
-        for (size_t j = 0; j < columns; ++j) balance[j] = factor[j % kinds];
-    }
+    const bool balanced = kinds > 0 && columns % kinds == 0;
+    const std::vector<double> factor =
+        balanced ? basis::svtSourceBalance(factors.svt, factors.rank, sources.columns_per_point, sources.bins)
+                 : std::vector<double>{};
     std::vector<double> energy(static_cast<size_t>(factors.rank), 0.0);
     for (size_t j = 0; j < columns; ++j)
         for (size_t m = 0; m < energy.size(); ++m) {
-            const double v = factors.svt[j * factors.rank + m] * balance[j];
+            const double v = factors.svt[j * factors.rank + m] * (balanced ? factor[j % kinds] : 1.0);
             energy[m] += v * v;
         }
     double kept = 0.0;

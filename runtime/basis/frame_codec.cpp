@@ -335,21 +335,10 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
         throw std::invalid_argument("frame codec: error bounds must be positive");
     EncodedFrame out;
 
-    // Both factors are measured on the basis with its sources balanced, B D (basis/source_balance.h):
-    // D from the energy of each column kind in S V^T (U's columns are orthonormal, so a column's
-    // energy in B is its energy in S V^T).
+    // Both factors are measured on the basis with its sources balanced, B D (basis/source_balance.h).
     const size_t columns = static_cast<size_t>(description.columnCount());
     const int kinds = description.columnsPerPoint();
-    std::vector<double> balance;  // per column kind
-    {
-        std::vector<double> energy(kinds, 0.0);
-        for (size_t j = 0; j < columns; ++j)
-            for (int k = 0; k < rank; ++k) {
-                const double v = finiteOrZero(factors.svt[j * rank + k]);
-                energy[j % kinds] += v * v;
-            }
-        balance = sourceBalance(energy, description.bins.count);
-    }
+    const std::vector<double> balance = svtSourceBalance(factors.svt, rank, kinds, description.bins.count);
 
     // U as W = U S on one grid, S the singular values of B D: the norms of the rows of S V^T D
     // (V is orthonormal).

@@ -21,4 +21,16 @@ std::vector<double> sourceBalance(std::span<const double> energy, int bins) {
     return factor;
 }
 
+std::vector<double> svtSourceBalance(std::span<const float> svt, int rank, int columns_per_point, int bins) {
+    std::vector<double> energy(static_cast<size_t>(std::max(columns_per_point, 0)), 0.0);
+    if (rank <= 0 || energy.empty()) return sourceBalance(energy, bins);
+    const size_t columns = svt.size() / static_cast<size_t>(rank);
+    for (size_t j = 0; j < columns; ++j)
+        for (int k = 0; k < rank; ++k) {
+            const float v = svt[j * rank + k];
+            if (std::isfinite(v)) energy[j % energy.size()] += double(v) * v;
+        }
+    return sourceBalance(energy, bins);
+}
+
 }  // namespace firelook::basis

@@ -28,4 +28,9 @@ inline constexpr double kMaxSourceRatio = 10.0;
 // (no source is scaled down).
 std::vector<double> sourceBalance(std::span<const double> energy, int bins);
 
+// sourceBalance of a frame's stored S V^T (`rank` values per column, column = point *
+// columns_per_point + c): a column's energy in B is the energy of its S V^T values, U's columns
+// being orthonormal. Values that are not finite count as 0 (the storage grids store them as 0).
+std::vector<double> svtSourceBalance(std::span<const float> svt, int rank, int columns_per_point, int bins);
+
 }  // namespace firelook::basis

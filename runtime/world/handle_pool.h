@@ -59,7 +59,7 @@ class HandlePool {
                                               std::to_string(kCapacity) + ")");
         throw Error(ErrorCode::Limit, std::string("no ") + toString(kind_) + " handles left: " +
                                           std::to_string(size()) + " live, " + std::to_string(retired_) +
-                                          " slots retired after 2047 uses each (handle_pool.h)");
+                                          " slots retired after " + std::to_string(kGenerationMask) + " uses each (handle_pool.h)");
     }
 
     uint32_t add(T value) {  // throws as requireRoom()

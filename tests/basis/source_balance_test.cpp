@@ -47,5 +47,19 @@ TEST(SourceBalance, EmptyAndNonFiniteSourcesKeepOne) {
     EXPECT_NEAR(lights[1], 1e3 / kMaxSourceRatio, 1e-9);
 }
 
+TEST(SourceBalance, OfAStoredSvtSumsEachColumnKindOverPointsAndRanks) {
+    // 2 grid points x (1 emission bin + 1 light), rank 2: column j = point * 2 + c.
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const std::vector<float> svt = {3.0f, 4.0f,     // point 0, emission: energy 25
+                                    1e-4f, 0.0f,    // point 0, light
+                                    0.0f, nan,      // point 1, emission: NaN counts 0
+                                    0.0f, 2e-4f};  // point 1, light: light energy 5e-8 in all
+    const std::vector<double> factor = svtSourceBalance(svt, 2, 2, 1);
+    ASSERT_EQ(factor.size(), 2u);
+    EXPECT_EQ(factor[0], 1.0);
+    EXPECT_NEAR(factor[1], std::sqrt(25.0 / 5e-8) / kMaxSourceRatio, 1e-4 * factor[1]);
+    EXPECT_EQ(factor, sourceBalance(std::vector<double>{25.0, double(1e-4f) * 1e-4f + double(2e-4f) * 2e-4f}, 1));
+}
+
 }  // namespace
 }  // namespace firelook::basis
