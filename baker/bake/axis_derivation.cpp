@@ -62,7 +62,7 @@ bool AxisDerivation::identity() const {
     return temperature_scale == 1.0 && temperature_offset == 0.0 && extinction_scale == 1.0;
 }
 
-basis::ParameterAxes designAxes() { return {{1.0, 1.2, 1.4, 1.6, 1.8, 2.0}, {2.0, 4.0, 8.0, 16.0}, {0.5, 1.5, 4.0}}; }
+basis::ParameterAxes designAxes() { return {{1.0, 1.2, 1.4, 1.6, 1.8, 2.0}, {2.0, 4.0, 8.0, 16.0}, {0.5, 1.0, 2.0, 4.0}}; }
 
 BakeAxes::BakeAxes(std::vector<double> tc, std::vector<double> ks, std::vector<double> kf)
     : temperature_threshold(std::move(tc)), smoke_extinction(std::move(ks)), flame_extinction(std::move(kf)) {}

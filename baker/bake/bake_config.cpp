@@ -138,9 +138,9 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         if (j.contains("memory_budget")) c.memory_budget_bytes = parseByteSize(j["memory_budget"].get<std::string>());
         if (c.trace.step_voxels <= 0.0 || c.trace.cell_voxels < 1 || c.trace.photons_primary < 1 ||
             c.trace.max_cells_per_axis < 1 || !(c.trace.max_cell_optical_depth > 0.0) || c.trace.light_points_per_axis < 2 || !(c.trace.footprint_step >= 0.0) ||
-            c.trace.photons_per_order < 1 || c.trace.footprint_samples_per_axis < 1 ||
+            c.trace.photons_per_order < 1 || c.trace.footprint_samples_per_axis < 0 ||
             c.trace.footprint_samples_per_axis > 8)
-            throw std::invalid_argument("trace settings must be positive");
+            throw std::invalid_argument("trace settings must be positive (footprint_samples_per_axis 0..8, 0 = from the image size)");
     } catch (const std::exception& e) {
         throw std::runtime_error(file.string() + ": " + e.what());
     }

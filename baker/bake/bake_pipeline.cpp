@@ -92,7 +92,8 @@ FrameMemoryPlan frameMemoryPlan(const render::Medium& medium, const render::Came
     const uint64_t columns = static_cast<uint64_t>(model.axes.pointCount()) * model.columnsPerPoint();
     const uint64_t pixels = static_cast<uint64_t>(camera.width()) * camera.height();
     const uint64_t rank = std::min<uint64_t>(columns, static_cast<uint64_t>(std::max(compression.max_rank, 1)));
-    const uint64_t rays = static_cast<uint64_t>(trace.footprint_samples_per_axis) * trace.footprint_samples_per_axis;
+    const uint64_t per_axis = footprintSamplesPerAxis(trace, camera.width(), camera.height());
+    const uint64_t rays = per_axis * per_axis;
     // While the basis is compressed (the traced matrix is still held): the Gram matrix and the
     // eigen solver's copies in double, a block of rows, U in float and half, and the copied depths.
     plan.compression_bytes = 3 * columns * columns * 8 + 256 * columns * 8 + pixels * rank * 6 +
@@ -140,7 +141,8 @@ DescribedBake describeDerivedBake(const vdb::VdbSequence& sequence, const BakeCo
     const int n_alpha = tc.size() == 1 ? 1 : std::max(config.alpha_threshold_samples, 2);
     for (int i = 0; i < n_alpha; ++i)
         d.alpha_thresholds.push_back(n_alpha == 1 ? tc.front() : tc.front() + (tc.back() - tc.front()) * i / (n_alpha - 1));
-    d.footprint_samples = config.trace.footprint_samples_per_axis * config.trace.footprint_samples_per_axis;
+    const int per_axis = footprintSamplesPerAxis(config.trace, scene.camera.width(), scene.camera.height());
+    d.footprint_samples = per_axis * per_axis;
     d.light_directions = scene.light_directions;
     d.six_way_first_light = scene.six_way_first_light;
     d.width = scene.camera.width();
@@ -410,6 +412,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
                         : ": --target-error needs more than the maximum rank (" +
                               std::to_string(config.compression.max_rank) + "); predicted error " +
                               std::to_string(chosen.predicted_error)));
+        checkStoredError(frame_number, chosen.encoded, chosen.storage);
         // The frame's own package in the checkpoint folder, written atomically: from here on an
         // interrupted bake keeps it.
         package::ContainerWriter writer(parts.back());

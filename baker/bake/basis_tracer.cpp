@@ -70,14 +70,20 @@ void validateModel(const BasisModel& model) {
 
 }  // namespace
 
+int footprintSamplesPerAxis(const TraceSettings& settings, int width, int height) {
+    if (settings.footprint_samples_per_axis > 0) return settings.footprint_samples_per_axis;
+    const int short_side = std::min(width, height);
+    return short_side >= 256 ? 3 : short_side >= 128 ? 4 : short_side >= 64 ? 6 : 8;
+}
+
 TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& camera, const BasisModel& model,
                          const TraceSettings& settings) {
     validateModel(model);
     const TraceTables tb(model);
     const std::size_t G = tb.points, C = tb.columns;
     const std::size_t pixels = static_cast<std::size_t>(camera.width()) * camera.height();
-    const std::size_t rays = static_cast<std::size_t>(std::max(settings.footprint_samples_per_axis, 1)) *
-                             std::max(settings.footprint_samples_per_axis, 1);
+    const int per_axis = footprintSamplesPerAxis(settings, camera.width(), camera.height());
+    const std::size_t rays = static_cast<std::size_t>(per_axis) * per_axis;
     TracePlan plan;
     plan.basis_bytes = pixels * G * C * sizeof(float);
     plan.depth_bytes = pixels * rays * (1 + tb.n_alpha) * sizeof(float);
@@ -145,7 +151,7 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     out.columns = G * C;
     const size_t pixels = static_cast<size_t>(out.width) * out.height;
     out.matrix.assign(pixels * out.columns, 0.0f);
-    const int per_axis = std::max(settings.footprint_samples_per_axis, 1);
+    const int per_axis = footprintSamplesPerAxis(settings, camera.width(), camera.height());
     out.footprint_samples = per_axis * per_axis;
     out.depth_b.assign(pixels * out.footprint_samples, 0.0f);
     out.depth_a.assign(pixels * out.footprint_samples * tb.n_alpha, 0.0f);
@@ -156,12 +162,19 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     out.light_spacing_voxels = plan.light_spacing_voxels;
     out.cell_optical_depth = plan.cell_optical_depth;
     const double voxel = medium.minVoxelEdge();
-    const ScatterCells cells = buildScatterCells(medium, tb, plan.cell_edge_voxels);
-    if (cells.slots == 0) return out;
+    // The setup stages report from their worker threads and stop within a layer of their work.
+    const auto stage = [&](double from, double to) {
+        return [&gate, from, to](double done) {
+            gate.report(from + (to - from) * done);
+            return !gate.stopped();
+        };
+    };
+    const ScatterCells cells = buildScatterCells(medium, tb, plan.cell_edge_voxels, stage(0.0, 0.02));
     gate.checkpoint(0.02);
+    if (cells.slots == 0) return out;
     out.seconds_setup = lapSeconds(clock);
     const LightDepthField light_depths =
-        buildLightDepths(medium, model, tb, cells, plan.light_spacing_voxels, settings.step_voxels);
+        buildLightDepths(medium, model, tb, cells, plan.light_spacing_voxels, settings.step_voxels, stage(0.02, 0.05));
     gate.checkpoint(0.05);
     out.seconds_light = lapSeconds(clock);
 

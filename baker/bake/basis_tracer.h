@@ -67,8 +67,12 @@ struct TraceSettings {
     // At most this many light-depth lattice points along any axis (shadow resolution of the
     // single-scattered light): 128 keeps the sample at one point per voxel.
     int light_points_per_axis = 128;
-    int photons_primary = 262144;     // photons for the primary sources
-    int photons_per_order = 131072;   // photons for each further scattering order
+    // Photons for the primary sources and for each further scattering order. Their noise is
+    // averaged by the cells and then by the SVD: halving both from 262144 / 131072 moved no
+    // regime's error beyond its bar (README, "Accuracy by regime") and paid for the fourth k_f
+    // sample of the design axes (axis_derivation.cpp).
+    int photons_primary = 131072;
+    int photons_per_order = 65536;
     // Scattering orders (photon passes) at most; 0 traces none (direct light and single scattering
     // of the lights only: a diagnostic, tests/bake/scatter_order_report).
     int max_orders = 12;
@@ -86,12 +90,10 @@ struct TraceSettings {
     double footprint_step = 0.5;
     // Camera rays per pixel along each axis of its footprint (n x n, cell-centred): a
     // pixel is the mean over its footprint, and alpha = mean(1 - exp(-tau)) needs the
-    // optical depths of each ray, which are all stored. 3 x 3 because the footprint
-    // quadrature of alpha against 16 x 16 rays, on the bundled sample's most opaque
-    // looks (k_s 16, k_f 4), is at most 0.0109 / 0.0055 / 0.0031 at 128x128 for
-    // n = 2 / 3 / 4, and 0.0076 / 0.0032 / 0.0017 at 256x256 (tests/bake/
-    // alpha_footprint_report); below 128x128 use 4 (64x64: 0.0116 at n = 3).
-    int footprint_samples_per_axis = 3;
+    // optical depths of each ray, which are all stored. 0 (the default) takes n from the
+    // image size, footprintSamplesPerAxis(): the footprint quadrature's alpha error grows as
+    // the pixels do, and the bake's alpha bar is 0.005 at every size.
+    int footprint_samples_per_axis = 0;
     // Bytes the trace may use for what it can size (the scattered-light cells): 0 = no limit.
     // planFrameTrace() coarsens the cells until they fit.
     std::uint64_t memory_budget_bytes = 0;
@@ -115,6 +117,13 @@ struct TracePlan {
     }
     bool fits = true;               // false if even the coarsest cells exceed the budget
 };
+
+// The n of a pixel's n x n footprint rays: settings.footprint_samples_per_axis where given, else
+// the smallest n whose alpha quadrature stays within 0.005 of 16 x 16 rays at this image size on
+// the bundled sample's most opaque looks (tests/bake/alpha_footprint_report): largest per-pixel
+// error at n = 3 / 4 was 0.0032 / 0.0017 at 256x256, 0.0055 / 0.0031 at 128x128, and 0.0116 / ...
+// at 64x64, so 3 from 256 pixels on the short side, 4 from 128, 5 below.
+int footprintSamplesPerAxis(const TraceSettings& settings, int width, int height);
 
 TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& camera, const BasisModel& model,
                          const TraceSettings& settings);

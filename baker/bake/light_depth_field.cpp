@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 
 #include "bake/index_ray.h"
 
@@ -40,7 +41,8 @@ glm::ivec3 lightLatticeCount(const render::Medium& medium, int spacing) {
 }
 
 LightDepthField buildLightDepths(const render::Medium& medium, const BasisModel& model, const TraceTables& tb,
-                                 const ScatterCells& cells, int spacing, double step_voxels) {
+                                 const ScatterCells& cells, int spacing, double step_voxels,
+                                 const std::function<bool(double)>& progress) {
     LightDepthField field;
     field.origin = influenceBox(medium).lo;
     field.spacing = spacing;
@@ -65,9 +67,14 @@ LightDepthField buildLightDepths(const render::Medium& medium, const BasisModel&
                 }
         return false;
     };
-    for (int l = 0; l < tb.lights; ++l) {
+    // A stop is seen after each lattice layer (tenths of a second on a large frame).
+    std::atomic<int> layers_done{0};
+    std::atomic<bool> stop{false};
+    const double layers = static_cast<double>(tb.lights) * field.count.z;
+    for (int l = 0; l < tb.lights && !stop.load(); ++l) {
         const glm::dvec3 toward_light = -glm::normalize(model.light_directions[l]);
         tbb::parallel_for(0, field.count.z, [&](int z) {
+            if (stop.load(std::memory_order_relaxed)) return;
             float smoke[kMaxAxisSamples], flame[kMaxAxisSamples], s[kMaxAxisSamples], f[kMaxAxisSamples];
             for (int y = 0; y < field.count.y; ++y)
                 for (int x = 0; x < field.count.x; ++x) {
@@ -92,6 +99,7 @@ LightDepthField buildLightDepths(const render::Medium& medium, const BasisModel&
                     std::copy(smoke, smoke + tb.n_tc, out);
                     std::copy(flame, flame + tb.n_tc, out + tb.n_tc);
                 }
+            if (progress && !progress(++layers_done / layers)) stop.store(true);
         });
     }
     return field;

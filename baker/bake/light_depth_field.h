@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <glm/vec3.hpp>
 #include <vector>
 
@@ -32,7 +33,10 @@ glm::ivec3 lightLatticeCount(const render::Medium& medium, int spacing);
 
 // Marches toward each light from every lattice point near density; a march stops once even the
 // thinnest grid point's transmittance is negligible (so thick media cost little).
+// progress(fraction done), called from the worker threads, returns false to stop: the field is then
+// incomplete and the caller must not use it (it throws its cancel).
 LightDepthField buildLightDepths(const render::Medium& medium, const BasisModel& model, const TraceTables& tables,
-                                 const ScatterCells& cells, int spacing, double step_voxels);
+                                 const ScatterCells& cells, int spacing, double step_voxels,
+                                 const std::function<bool(double)>& progress = {});
 
 }  // namespace firelook::bake

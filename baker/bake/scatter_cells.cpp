@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <glm/mat3x3.hpp>
 
@@ -102,7 +103,8 @@ std::size_t scatterSlotUpperBound(const render::Medium& medium, int edge) {
     return n;
 }
 
-ScatterCells buildScatterCells(const render::Medium& medium, const TraceTables& tb, int edge) {
+ScatterCells buildScatterCells(const render::Medium& medium, const TraceTables& tb, int edge,
+                               const std::function<bool(double)>& progress) {
     ScatterCells cells;
     cells.edge = std::max(edge, 1);
     cells.origin = influenceBox(medium).lo;
@@ -120,8 +122,12 @@ ScatterCells buildScatterCells(const render::Medium& medium, const TraceTables& 
     // 27), with any cell size.
     const int parts = 2 * tb.n_tc;
     std::vector<double> part_sums(n_cells * parts, 0.0);
-    // One task per layer of cells: the cubes of a layer only touch that layer's cells.
+    // One task per layer of cells: the cubes of a layer only touch that layer's cells. A layer of a
+    // large frame takes up to a few tenths of a second, so a stop is seen within that.
+    std::atomic<int> layers_done{0};
+    std::atomic<bool> stop{false};
     tbb::parallel_for(0, cells.count.z, [&](int cz) {
+        if (stop.load(std::memory_order_relaxed)) return;
         float smoke[kMaxAxisSamples], flame[kMaxAxisSamples];
         forEachCubeInSlab(medium, cz * cells.edge, (cz + 1) * cells.edge,
                           [&](const glm::ivec3& q, float, float) {
@@ -142,7 +148,10 @@ ScatterCells buildScatterCells(const render::Medium& medium, const TraceTables& 
                                   }
                               }
                           });
+        const double done = double(++layers_done) / cells.count.z;
+        if (progress && !progress(done)) stop.store(true);
     });
+    if (stop.load()) return cells;
     cells.slot.assign(n_cells, -1);
     for (std::size_t c = 0; c < n_cells; ++c) {
         bool any = false;

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <glm/vec3.hpp>
 #include <vector>
 
@@ -56,7 +57,10 @@ std::size_t scatterCellCount(const render::Medium& medium, int edge);
 // gives, from brick data only (no sampling), for the memory plan.
 std::size_t scatterSlotUpperBound(const render::Medium& medium, int edge);
 
-ScatterCells buildScatterCells(const render::Medium& medium, const TraceTables& tables, int edge);
+// progress(fraction done), called from the worker threads, returns false to stop: the cells are
+// then left partly summed and the caller must not use them (it throws its cancel).
+ScatterCells buildScatterCells(const render::Medium& medium, const TraceTables& tables, int edge,
+                               const std::function<bool(double)>& progress = {});
 
 // Calls visit(cube_lower_corner, rho, t) for the centre of every unit index cube of the medium's
 // bricks that can hold density, z-slab by z-slab: slabs [z0, z1) of cube layers (relative to the

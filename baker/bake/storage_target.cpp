@@ -7,6 +7,7 @@
 #include <string>
 
 #include "basis/source_balance.h"
+#include "common/error.h"
 #include "package/container_writer.h"
 
 namespace firelook::bake {
@@ -246,6 +247,17 @@ FramePrecision chooseStoredFramePrecision(const StoredFrameErrors& stored, const
     if (target.basis_error > 0.0) return forError(source, compression, storage, target.basis_error, encoder);
     if (target.package_bytes > 0) return forSize(source, compression, storage, frame_share_bytes, encoder);
     return finish(encoder.encode(all, all.factors.rank, compression, storage), encoder.count, 1.0, true);
+}
+
+void checkStoredError(int frame, const basis::EncodedFrame& encoded, const basis::FrameCodecSettings& storage) {
+    const double stored = std::hypot(encoded.u_error, encoded.svt_error);
+    if (!(stored <= 2.0 * storage.basis_error))
+        throw Error(ErrorCode::Limit,
+                    "frame " + std::to_string(frame) + ": storing its basis adds a relative error of " +
+                        std::to_string(stored) + ", more than twice its bound " + std::to_string(storage.basis_error) +
+                        " (U " + std::to_string(encoded.u_error) + ", S V^T " + std::to_string(encoded.svt_error) +
+                        "): its values span more than the codec's 16-bit grids hold; clamp the input "
+                        "(--clamp-extreme) or look for voxels far brighter than the rest");
 }
 
 }  // namespace firelook::bake

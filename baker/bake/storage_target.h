@@ -62,6 +62,14 @@ FramePrecision chooseFramePrecision(const FrameBasis& basis, int frame, const ba
                                     const StorageTarget& target, uint64_t frame_share_bytes,
                                     const std::function<bool()>& keep_going = {});
 
+// Throws firelook::Error (Limit) naming the frame when storing it added more than twice the
+// error `storage` allows to the basis (encoded.u_error, encoded.svt_error). The codec's grids hold
+// 2^16 levels each: a factor whose largest value is beyond ~10^4 times its rms (one pixel or
+// column far brighter than the rest) forces a coarser step than the bound needs, and the frame
+// would render wrong while the bake reported it stored. Twice: the measured rounding error spreads
+// about the uniform-noise estimate the steps are chosen by, on small frames by tens of percent.
+void checkStoredError(int frame, const basis::EncodedFrame& encoded, const basis::FrameCodecSettings& storage);
+
 // A frame already stored in a package (firelook repack), as the chooser sees it: the stored
 // factors stand for the basis, their S V^T row norms for its singular values, and the errors the
 // package records for it (its SVD truncation and storage errors, relative to the traced basis)

@@ -105,6 +105,7 @@ void registerRepackCommand(CLI::App& app) {
                 const bake::FramePrecision chosen = bake::chooseStoredFramePrecision(
                     errors, d, compression, args->storage, target, share,
                     [] { return !interruptRequested(); });
+                bake::checkStoredError(frame, chosen.encoded, chosen.storage);
                 const basis::StoredFrame stored = basis::writeEncodedFrame(writer, frame, chosen.encoded);
                 d.frames[i].rank = chosen.compressed.factors.rank;
                 after += stored.bytes();

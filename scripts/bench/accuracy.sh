@@ -12,13 +12,17 @@
 #   dense-0.95    the same at albedo 0.95 (tens of scattering orders)
 #   thin-late     samples/data/smoke frame 30: thin, spread-out late smoke, emission on
 #   corners       explosion frame 7, every look on a corner of the (T_c, k_s, k_f) ranges
-# References are kept in out/bench/references (REFERENCES=dir to move them); REGIMES="a b" runs some.
+# References are kept in out/bench/references (REFERENCES=dir to move them); REGIMES="a b" runs some;
+# FIRELOOK=path measures that binary instead of building build/release's (which a build going on
+# beside the run would replace under it).
 #   scripts/bench/accuracy.sh [out-dir]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 out="${1:-$root/out/bench/accuracy}"
-"$root/scripts/build.sh" release firelook >/dev/null
-firelook="$root/build/release/baker/cli/firelook"
+if [[ -z "${FIRELOOK:-}" ]]; then
+  "$root/scripts/build.sh" release firelook >/dev/null
+fi
+firelook="${FIRELOOK:-$root/build/release/baker/cli/firelook}"
 configs="$root/scripts/bench/accuracy"
 references="${REFERENCES:-$root/out/bench/references}"
 mkdir -p "$out"

@@ -64,7 +64,7 @@ TEST(GridInterpolation, LooksBetweenSamplesMatchTheLookBakedAlone) {
     TempDir dir;
     const std::string firelook = FIRELOOK_EXE;
     const std::string bake = firelook + " bake " + FIRELOOK_SMOKE_DIR + " --up z --size 64x64 --frames 20 --config ";
-    std::ofstream(dir / "grid.json") << bakeJson("[12.5, 25, 50, 100]", "[3.25, 9.75, 26]");
+    std::ofstream(dir / "grid.json") << bakeJson("[12.5, 25, 50, 100]", "[3.25, 6.5, 13, 26]");
     const auto grid = runIn(dir, bake + "grid.json -o grid.firelook");
     ASSERT_EQ(grid.exit_code, 0) << grid.err;
 

@@ -108,7 +108,7 @@ TEST(AxisDerivation, AxesSetInCodeAreGiven) {
     EXPECT_EQ(bake.derivation.derived, (std::array<bool, 3>{false, false, true}));
     EXPECT_EQ(bake.description.axes.temperature_threshold, (std::vector<double>{1.5}));
     EXPECT_EQ(bake.description.axes.smoke_extinction, (std::vector<double>{2.0, 8.0}));
-    EXPECT_EQ(bake.description.axes.flame_extinction, (std::vector<double>{0.125, 0.375, 1.0}));
+    EXPECT_EQ(bake.description.axes.flame_extinction, (std::vector<double>{0.125, 0.25, 0.5, 1.0}));
 }
 
 // A small bake whose axes are derived from the design {1, 2} x {4} x {1.5}; frame 6 (the fire

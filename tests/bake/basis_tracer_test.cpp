@@ -184,6 +184,38 @@ constexpr double kAlphaTolerance = 0.05;
 // 0.051-0.077 with its sum 4-7% low, before the photon starts covered the outer half-voxel shell of
 // the trilinear support (see ScatteredEmissionIsNotBiasedLow; such a bias of the sum is what the
 // sum checks of the tests below catch, the RMSE being dominated by photon noise).
+TEST(BasisTracer, FootprintRaysFollowTheImageSizeUnlessGiven) {
+    TraceSettings settings;
+    ASSERT_EQ(settings.footprint_samples_per_axis, 0) << "the default takes n from the image";
+    EXPECT_EQ(footprintSamplesPerAxis(settings, 512, 256), 3);
+    EXPECT_EQ(footprintSamplesPerAxis(settings, 128, 300), 4);
+    EXPECT_EQ(footprintSamplesPerAxis(settings, 64, 64), 6);
+    EXPECT_EQ(footprintSamplesPerAxis(settings, 16, 40), 8);
+    settings.footprint_samples_per_axis = 2;
+    EXPECT_EQ(footprintSamplesPerAxis(settings, 64, 64), 2) << "a given n is kept";
+    const AnalyticBox box;  // 8x8 pixels
+    TraceSettings traced = fastTrace(1);
+    traced.footprint_samples_per_axis = 0;
+    EXPECT_EQ(traceFrameBasis(box.medium, box.camera, box.model, traced).footprint_samples, 64);
+}
+
+// A stop asked for while the scattering cells or the light depths are built ends the trace there,
+// not at the next stage (issue 28: on a large frame those stages took 4-15 s without a check).
+TEST(BasisTracer, AStopIsSeenInsideTheSetupStages) {
+    const ScatteringBox box;
+    for (const double stop_after : {0.0, 0.02}) {
+        double last = -1.0;
+        const auto progress = [&](double fraction) {
+            last = std::max(last, fraction);
+            return fraction <= stop_after;
+        };
+        EXPECT_THROW(traceFrameBasis(box.medium, box.camera, box.model, fastTrace(3), progress), std::runtime_error);
+        EXPECT_LE(last, stop_after == 0.0 ? 0.02 : 0.05) << "stopped within "
+                                                         << (stop_after == 0.0 ? "the cells" : "the light depths");
+        EXPECT_GT(last, stop_after) << "the stage reported its own progress";
+    }
+}
+
 TEST(BasisTracer, ScatteringAgreesWithReferencePathTracer) {
     const ScatteringBox box;
     TraceSettings settings = fastTrace(3);

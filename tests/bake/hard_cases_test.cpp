@@ -204,7 +204,7 @@ TEST(BakeHardCases, CameraInsideTheVolume) {
     const double kappa = extinctionPerDensity(temperature, theta, m.bins);
     const double edge = medium.minVoxelEdge(), kink = rho * edge * 0.25 * 0.25 / 8.0;
     const std::vector<float> rgba = compressAndRender(m, b, theta);
-    const int n = settings.footprint_samples_per_axis;
+    const int n = footprintSamplesPerAxis(settings, inside.width(), inside.height());
     ASSERT_EQ(b.footprint_samples, n * n);
     double worst_traced = 0.0, worst_image = 0.0;  // |error| / (1 - alpha)
     for (int p = 0; p < 64; ++p) {

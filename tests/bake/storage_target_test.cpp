@@ -8,11 +8,13 @@
 #include <filesystem>
 #include <fstream>
 
+#include "../basis/codec_test_frames.h"
 #include "../support/temp_dir.h"
 #include "bake/bake_config.h"
 #include "bake/bake_pipeline.h"
 #include "basis/basis_package.h"
 #include "basis/frame_factors.h"
+#include "common/error.h"
 #include "package/container_writer.h"
 #include "tiny_sample_bake.h"
 
@@ -174,6 +176,25 @@ TEST(StorageTarget, StoredFrameMeetsALooserTargetAndNeverATighterOne) {
                                                               {.basis_error = held / 2}, 0);
     EXPECT_FALSE(tighter.target_met);
     EXPECT_GE(tighter.predicted_error, held * 0.9) << "the recorded errors stay in the prediction";
+}
+
+TEST(StorageTarget, AFrameBeyondTheCodecsRangeFailsNamingIt) {
+    // One value of U at the largest half beside values ~0.01: the 16-bit grid's step is then set by
+    // the range, every other value rounds to 0, and the stored error is ~100% of the basis.
+    const basis::BakeDescription d = basis::codecDescription(32, 24, 1);
+    basis::FrameFactors factors = basis::codecFactors(d, 4, 7);
+    const basis::FrameCodecSettings settings;
+    basis::EncodedFrame encoded = basis::encodeFrame(d, factors, settings);
+    EXPECT_NO_THROW(checkStoredError(3, encoded, settings)) << "an ordinary frame is within its bound";
+    factors.u_half[d.width * 10 + 20] = glm::packHalf1x16(65504.0f);
+    encoded = basis::encodeFrame(d, factors, settings);
+    try {
+        checkStoredError(3, encoded, settings);
+        ADD_FAILURE() << "stored error " << encoded.u_error << " passed";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::Limit);
+        EXPECT_NE(std::string(e.what()).find("frame 3:"), std::string::npos) << e.what();
+    }
 }
 
 }  // namespace
