@@ -63,7 +63,9 @@ FramePrecision chooseFramePrecision(const FrameBasis& basis, int frame, const ba
                                     const std::function<bool()>& keep_going = {});
 
 // Throws firelook::Error (Limit) naming the frame when storing it added more than twice the
-// error `storage` allows to the basis (encoded.u_error, encoded.svt_error). The codec's grids hold
+// error `storage` allows to the basis (encoded.u_error, encoded.svt_error), or than the default
+// FrameCodecSettings allow where `storage` asks for less (a target finer than the grids reach is
+// reported by the chooser as not met, not failed: firelook repack --target-error 0.00001). The codec's grids hold
 // 2^16 levels each: a factor whose largest value is beyond ~10^4 times its rms (one pixel or
 // column far brighter than the rest) forces a coarser step than the bound needs, and the frame
 // would render wrong while the bake reported it stored. Twice: the measured rounding error spreads

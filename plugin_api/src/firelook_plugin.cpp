@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "basis/fire_lights.h"
+#include "basis/parameter_grid.h"
 #include "common/error.h"
 #include "fit/look_fit.h"
 #include "gpu_layers.h"
@@ -436,24 +437,25 @@ FIRELOOK_API fl_result fl_package_get_default_look_json(fl_package h, char* buff
     });
 }
 
+namespace {
+// A frame of a package outside any world, in the resident form the world keeps, so the fl_package_
+// and fl_instance_ layer calls write the same bytes by the same code (gpu_layers.h).
+basis::ResidentFrame residentFrame(const world::Package& p, int slot) {
+    return p.loadResidentSlot(slot, std::pmr::new_delete_resource(), nullptr);
+}
+}  // namespace
+
 FIRELOOK_API fl_result fl_package_get_frame_u(fl_package h, int32_t frame, uint16_t* buffer, size_t capacity,
                                               size_t* out_count) {
     return guarded("fl_package_get_frame_u", [&] {
         const auto p = findPackage(h);
         const int slot = slotOrFail(*p, frame);
-        const basis::BakeDescription& d = p->description();
-        const size_t rank = static_cast<size_t>(p->frameRank(slot));
-        const size_t layers = (rank + 3) / 4;
-        const size_t pixels = static_cast<size_t>(d.pixelCount());
-        const size_t needed = layers * pixels * 4;
+        const size_t needed = plugin::uLayerElements(p->frameRank(slot), static_cast<size_t>(p->description().pixelCount()));
         if (out_count) *out_count = needed;
         if (isSizeQuery(capacity)) return;
         checkPointer(buffer, "buffer");
         checkCapacity(capacity, needed, "uint16_t elements");
-        const basis::FrameFactors f = p->loadSlot(slot);
-        std::fill(buffer, buffer + needed, uint16_t{0});
-        for (size_t px = 0; px < pixels; ++px)
-            for (size_t k = 0; k < rank; ++k) buffer[((k / 4) * pixels + px) * 4 + k % 4] = f.u_half[px * rank + k];
+        plugin::writeULayers(residentFrame(*p, slot), buffer);
     });
 }
 
@@ -462,18 +464,12 @@ FIRELOOK_API fl_result fl_package_get_frame_depths(fl_package h, int32_t frame, 
     return guarded("fl_package_get_frame_depths", [&] {
         const auto p = findPackage(h);
         const int slot = slotOrFail(*p, frame);
-        const basis::BakeDescription& d = p->description();
-        const size_t pixels = static_cast<size_t>(d.pixelCount());
-        const size_t needed = pixels * static_cast<size_t>(d.footprint_samples) * (1 + d.alpha_thresholds.size());
+        const size_t needed = plugin::depthLayerFloats(p->description());
         if (out_count) *out_count = needed;
         if (isSizeQuery(capacity)) return;
         checkPointer(buffer, "buffer");
         checkCapacity(capacity, needed, "floats");
-        const basis::FrameFactors f = p->loadSlot(slot);
-        std::copy(f.depth_b.begin(), f.depth_b.end(), buffer);
-        if (f.depth_b.size() + f.depth_a.size() != needed)
-            fail(FL_ERROR_CORRUPT, p->name() + ": optical depths of frame " + std::to_string(frame) + " have the wrong size");
-        std::copy(f.depth_a.begin(), f.depth_a.end(), buffer + f.depth_b.size());
+        plugin::writeDepthLayers(p->description(), residentFrame(*p, slot), buffer);
     });
 }
 
@@ -811,20 +807,11 @@ FIRELOOK_API fl_result fl_instance_get_state(fl_world w, fl_instance i, fl_insta
         r.flame_extinction = s.extinction.flame_extinction;
         r.extinction_a = static_cast<float>(s.extinction.a());
         r.extinction_b = static_cast<float>(s.extinction.b());
-        // The same O_a interpolation as basis::reconstructImage (linear in T_c, clamped at the ends).
-        const std::vector<double>& t = d.alpha_thresholds;
-        const double tc = s.extinction.temperature_threshold;
-        const int last = static_cast<int>(t.size()) - 1;
-        if (last <= 0 || !(tc > t.front())) {
-            r.alpha_layer_lower = r.alpha_layer_upper = 0;
-        } else if (tc >= t.back()) {
-            r.alpha_layer_lower = r.alpha_layer_upper = last;
-        } else {
-            const int upper = static_cast<int>(std::upper_bound(t.begin(), t.end(), tc) - t.begin());
-            r.alpha_layer_lower = upper - 1;
-            r.alpha_layer_upper = upper;
-            r.alpha_layer_t = static_cast<float>((tc - t[upper - 1]) / (t[upper] - t[upper - 1]));
-        }
+        // The O_a layers basis::reconstructImage blends (parameter_grid.h's bracket of T_c).
+        const basis::SampleBracket layers = basis::sampleBracket(d.alpha_thresholds, s.extinction.temperature_threshold);
+        r.alpha_layer_lower = layers.lower;
+        r.alpha_layer_upper = layers.upper;
+        r.alpha_layer_t = static_cast<float>(layers.t);
         writeOut(out, r);
     });
 }

@@ -1,7 +1,8 @@
 // The GPU layouts of firelook.h (fl_*_get_frame_u, fl_*_get_frame_depths) written straight from a
 // frame in the world's resident form (basis/resident_frame.h), so a host uploading the frame an
-// instance shows needs no second decode. The values are exactly basis::expandFrame's, which the
-// fl_package_ variants copy (tests/plugin_api compares the two byte for byte).
+// instance shows needs no second decode; the fl_package_ variants load the frame in the same form
+// and write it by the same code. U is the codec's grid value rounded to half, as basis::expandFrame
+// gives it (tests/plugin_api rebuilds the world's image and alpha from these layers).
 #pragma once
 
 #include <cstddef>

@@ -40,6 +40,19 @@ void addPolynomial(const std::vector<double>& x_s, int first, int degree, double
     }
 }
 
+}  // namespace
+
+SampleBracket sampleBracket(const std::vector<double>& samples, double x) {
+    const int last = static_cast<int>(samples.size()) - 1;
+    if (last <= 0 || !(x > samples.front())) return {0, 0, 0.0};  // also catches NaN
+    if (x >= samples.back()) return {last, last, 0.0};
+    const int upper = static_cast<int>(std::upper_bound(samples.begin(), samples.end(), x) - samples.begin());
+    const int lower = upper - 1;
+    return {lower, upper, (x - samples[lower]) / (samples[upper] - samples[lower])};
+}
+
+namespace {
+
 // Between samples i and i+1 at t = (x - x_i) / (x_(i+1) - x_i): the cubic through i-2 .. i+1 blended
 // linearly into the cubic through i-1 .. i+2, each window moved inside the axis where it would leave
 // it (so an end interval, and every interval of a 4-sample axis, has one cubic). Interval i's right
@@ -52,18 +65,14 @@ void addPolynomial(const std::vector<double>& x_s, int first, int degree, double
 // the runtime clamps the reconstructed colour and the fire lights' intensities at zero.
 AxisWeights axisWeights(const std::vector<double>& x_s, double x) {
     AxisWeights out;
+    const SampleBracket bracket = sampleBracket(x_s, x);
+    if (bracket.lower == bracket.upper) {  // on or beyond an end
+        out.add(bracket.lower, 1.0);
+        return out;
+    }
     const int last = static_cast<int>(x_s.size()) - 1;
-    if (last <= 0 || !(x > x_s.front())) {  // also catches NaN
-        out.add(0, 1.0);
-        return out;
-    }
-    if (x >= x_s.back()) {
-        out.add(last, 1.0);
-        return out;
-    }
-    const int upper = static_cast<int>(std::upper_bound(x_s.begin(), x_s.end(), x) - x_s.begin());
-    const int lower = upper - 1;
-    const double t = (x - x_s[lower]) / (x_s[upper] - x_s[lower]);
+    const int lower = bracket.lower;
+    const double t = bracket.t;
     const int degree = std::min(3, last);
     const auto window = [&](int first) { return std::clamp(first, 0, last - degree); };
     const int left = window(lower - (degree - 1)), right = window(lower - (degree - 2));

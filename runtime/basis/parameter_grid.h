@@ -30,6 +30,17 @@ struct ParameterAxes {
     ExtinctionParams point(int index) const;
 };
 
+// The two samples around x and x's place between them, t in [0, 1); x clamped to the samples'
+// range: at or beyond an end (and for NaN, or one sample) lower == upper and t = 0, the first
+// sample below the range. One rule for the grid's axes, the alpha threshold layers (recombine.cpp)
+// and the plugin's fl_instance_state. `samples` strictly increasing and not empty.
+struct SampleBracket {
+    int lower = 0;
+    int upper = 0;
+    double t = 0.0;
+};
+SampleBracket sampleBracket(const std::vector<double>& samples, double x);
+
 // Up to 5 x 5 x 5 grid points with non-zero weight; weights sum to 1 and can be negative.
 struct GridWeights {
     static constexpr int kMaxPoints = 125;

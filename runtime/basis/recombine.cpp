@@ -8,29 +8,10 @@
 #include <stdexcept>
 
 #include "basis/coefficients.h"
+#include "basis/parameter_grid.h"
 #include "basis/simd.h"
 
 namespace firelook::basis {
-namespace {
-
-struct ThresholdLerp {
-    int lower = 0;
-    int upper = 0;
-    float t = 0.0f;
-};
-
-ThresholdLerp thresholdLerp(const std::vector<double>& samples, double t_c) {
-    const int last = static_cast<int>(samples.size()) - 1;
-    if (last <= 0 || !(t_c > samples.front())) return {0, 0, 0.0f};
-    if (t_c >= samples.back()) return {last, last, 0.0f};
-    const int upper =
-        static_cast<int>(std::upper_bound(samples.begin(), samples.end(), t_c) - samples.begin());
-    const int lower = upper - 1;
-    return {lower, upper, static_cast<float>((t_c - samples[lower]) / (samples[upper] - samples[lower]))};
-}
-
-}  // namespace
-
 namespace {
 
 void coefficientsOf(const BakeDescription& description, std::span<const float> svt, int rank, const LookWeights& look,
@@ -102,18 +83,20 @@ struct AlphaPlan {
 // a t O_a(upper) + b O_b) / ln 2, for both forms of a frame; `two` is false when T_c is on or
 // outside the samples (O_a = the lower layer alone).
 struct AlphaWeights {
-    ThresholdLerp lerp;
+    SampleBracket lerp;  // parameter_grid.h: the one bracketing rule
     bool two = false;
     float w_lower = 0.0f, w_upper = 0.0f, w_density = 0.0f;
 };
 
 AlphaWeights alphaWeights(const BakeDescription& description, const ExtinctionParams& extinction) {
     AlphaWeights w;
-    w.lerp = thresholdLerp(description.alpha_thresholds, extinction.temperature_threshold);
-    w.two = w.lerp.upper != w.lerp.lower && w.lerp.t != 0.0f;
+    w.lerp = sampleBracket(description.alpha_thresholds, extinction.temperature_threshold);
+    // The layer weight in float, as the GPU layers' writers and the plugin's state report it.
+    const float t = static_cast<float>(w.lerp.t);
+    w.two = w.lerp.upper != w.lerp.lower && t != 0.0f;
     const double log2e = 1.4426950408889634;
-    w.w_lower = static_cast<float>(extinction.a() * (w.two ? 1.0 - w.lerp.t : 1.0) * log2e);
-    w.w_upper = static_cast<float>(extinction.a() * (w.two ? w.lerp.t : 0.0) * log2e);
+    w.w_lower = static_cast<float>(extinction.a() * (w.two ? 1.0 - t : 1.0) * log2e);
+    w.w_upper = static_cast<float>(extinction.a() * (w.two ? t : 0.0) * log2e);
     w.w_density = static_cast<float>(extinction.b() * log2e);
     return w;
 }
@@ -121,7 +104,7 @@ AlphaWeights alphaWeights(const BakeDescription& description, const ExtinctionPa
 AlphaPlan alphaPlan(const BakeDescription& description, const FrameFactors& factors,
                     const ExtinctionParams& extinction) {
     const AlphaWeights w = alphaWeights(description, extinction);
-    const ThresholdLerp& lerp = w.lerp;
+    const SampleBracket& lerp = w.lerp;
     AlphaPlan plan;
     plan.pixels = static_cast<size_t>(factors.pixels);
     plan.ray_stride = description.alpha_thresholds.size() * plan.pixels;
