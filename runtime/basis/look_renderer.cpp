@@ -7,10 +7,8 @@
 
 namespace firelook::basis {
 
-namespace {
-
-template <typename Frame, typename Reconstruct>
-void renderWith(const BakeDescription& description, const Frame& frame, const Look& look, Reconstruct reconstruct) {
+void renderLookImage(const BakeDescription& description, const ResidentFrame& frame, const Look& look,
+                     std::span<float> rgba_out) {
     if (std::abs(look.albedo - description.albedo) > 1e-6)
         throw LookError(look.source_name + ": key 'albedo': " + std::to_string(look.albedo) +
                         " differs from the package's baked albedo " + std::to_string(description.albedo) +
@@ -19,23 +17,7 @@ void renderWith(const BakeDescription& description, const Frame& frame, const Lo
     std::vector<float> z(static_cast<size_t>(frame.rank) * 3);
     const LookWeights weights{look.extinction(), model.emission.coefficients, look.light_irradiance};
     computeCoefficients(description, frame, weights, z);
-    reconstruct(z);
-}
-
-}  // namespace
-
-void renderLookImage(const BakeDescription& description, const FrameFactors& factors, std::span<const float> u_float,
-                     const Look& look, std::span<float> rgba_out) {
-    renderWith(description, factors, look, [&](std::span<const float> z) {
-        reconstructImage(description, factors, u_float, z, look.extinction(), rgba_out);
-    });
-}
-
-void renderLookImage(const BakeDescription& description, const ResidentFrame& frame, const Look& look,
-                     std::span<float> rgba_out) {
-    renderWith(description, frame, look, [&](std::span<const float> z) {
-        reconstructImage(description, frame, z, look.extinction(), rgba_out);
-    });
+    reconstructImage(description, frame, z, look.extinction(), rgba_out);
 }
 
 }  // namespace firelook::basis

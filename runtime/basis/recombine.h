@@ -1,12 +1,13 @@
-// From a look to an image: the per-frame coefficient vectors z = S V^T w and
-// the reconstruction image = U z, with alpha from the exact optical depths
-// (docs/model.md). This is the runtime's hot path: no allocation here.
+// From a look to an image, on the resident form of a frame (resident_frame.h), the runtime's only
+// frame form: the per-frame coefficient vectors z = S V^T w and the reconstruction image = U z,
+// with alpha from the optical depths (docs/model.md). This is the runtime's hot path: no
+// allocation here. tests/basis/reference_kernels.h writes the same definitions plainly, on the
+// float layout of FrameFactors, for the tests to check these kernels against.
 #pragma once
 
 #include <span>
 
 #include "basis/bake_description.h"
-#include "basis/frame_factors.h"
 #include "basis/resident_frame.h"
 #include "look/look_model.h"
 
@@ -21,35 +22,23 @@ struct LookWeights {
 
 // z_out: rank x 3, z_out[k * 3 + channel]. Throws std::invalid_argument when the
 // spans do not match the description (wrong bin or light count, short output).
-void computeCoefficients(const BakeDescription& description, const FrameFactors& factors,
-                         const LookWeights& look, std::span<float> z_out);
 void computeCoefficients(const BakeDescription& description, const ResidentFrame& frame, const LookWeights& look,
                          std::span<float> z_out);
 
-// rgba_out: pixels x 4, premultiplied linear RGBA, top row first. u_float is
-// decodeU(factors). Negative radiance (truncation ringing) is clamped to 0 and a
-// non-finite value can never be written; alpha is in [0, 1] (NaN optical depth:
-// opaque). Throws std::invalid_argument when a span or the depth layers are too
-// short. Vectorised (AVX2 where the CPU has it), single-threaded; alpha's exp is
-// a polynomial, alpha within 1e-7 of the exact value (see recombine.cpp).
-void reconstructImage(const BakeDescription& description, const FrameFactors& factors,
-                      std::span<const float> u_float, std::span<const float> z,
-                      const ExtinctionParams& extinction, std::span<float> rgba_out);
-
-// alpha = mean over the footprint rays of 1 - exp(-(a O_a(T_c) + b O_b)) for one
-// pixel; O_a interpolated linearly in T_c between the alpha threshold samples.
-// Bit for bit the alpha reconstructImage writes. Throws std::invalid_argument for
-// a pixel out of range or depth layers too short.
-float pixelAlpha(const BakeDescription& description, const FrameFactors& factors, int pixel,
-                 const ExtinctionParams& extinction);
-
-// The same two, on the resident form (resident_frame.h), which the runtime world keeps: U read
-// as its int16 grid values (z scaled by the column scales instead), alpha from the depth codes
-// through the frame's DepthTable. Agrees with the FrameFactors versions on expandFrame(frame)
-// up to the half rounding of U there (the resident U is the more exact); pixelAlpha gives the
-// alpha reconstructImage writes, bit for bit. Ranks above 1024 throw std::invalid_argument.
+// rgba_out: pixels x 4, premultiplied linear RGBA, top row first. U is read as its int16 grid
+// values (z scaled by the column scales instead), alpha from the depth codes through the frame's
+// DepthTable. Negative radiance (truncation ringing) is clamped to 0 and a non-finite value can
+// never be written; alpha is in [0, 1]. Throws std::invalid_argument when the frame does not match
+// the description, a span is too short or the rank is above 1024. Vectorised (AVX2 where the CPU
+// has it), single-threaded; alpha's exp is a polynomial, alpha within 1e-7 of the exact value
+// (see recombine.cpp).
 void reconstructImage(const BakeDescription& description, const ResidentFrame& frame, std::span<const float> z,
                       const ExtinctionParams& extinction, std::span<float> rgba_out);
+
+// alpha = mean over the footprint rays of 1 - exp(-(a O_a(T_c) + b O_b)) for one pixel; O_a
+// interpolated linearly in T_c between the alpha threshold samples. Bit for bit the alpha
+// reconstructImage writes. Throws std::invalid_argument for a pixel out of range or a frame that
+// does not match the description.
 float pixelAlpha(const BakeDescription& description, const ResidentFrame& frame, int pixel,
                  const ExtinctionParams& extinction);
 

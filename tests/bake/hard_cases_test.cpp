@@ -13,6 +13,7 @@
 #include "bake/basis_tracer.h"
 #include "bake_test_support.h"
 #include "basis/recombine.h"
+#include "reference_kernels.h"
 
 namespace firelook::bake {
 namespace {
@@ -49,9 +50,9 @@ std::vector<float> compressAndRender(const BasisModel& m, const FrameBasis& b, c
     const std::vector<Rgb> coefficients(m.bins.count, Rgb(1.0f)),
         irradiance(m.light_directions.size(), Rgb(1.0f));
     std::vector<float> z(static_cast<size_t>(c.factors.rank) * 3);
-    basis::computeCoefficients(d, c.factors, {theta, coefficients, irradiance}, z);
+    reference::computeCoefficients(d, c.factors, {theta, coefficients, irradiance}, z);
     std::vector<float> rgba(static_cast<size_t>(b.width) * b.height * 4);
-    basis::reconstructImage(d, c.factors, basis::decodeU(c.factors), z, theta, rgba);
+    reference::reconstructImage(d, c.factors, basis::decodeU(c.factors), z, theta, rgba);
     return rgba;
 }
 

@@ -4,20 +4,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory_resource>
 #include <vector>
 
 #include "basis/basis_package.h"
-#include "basis/frame_factors.h"
 #include "basis/look_renderer.h"
 #include "look/look.h"
 
 namespace firelook::bake::test {
 
-// Frame `frame` of `package` for `look` (CPU reconstruction), premultiplied RGBA.
+// Frame `frame` of `package` for `look` (the runtime's resident form), premultiplied RGBA.
 inline std::vector<float> renderFrame(const basis::BasisReader& package, int frame, const Look& look) {
-    const basis::FrameFactors f = package.loadFrame(frame);
+    const basis::ResidentFrame f = package.loadResidentFrame(frame, std::pmr::get_default_resource());
     std::vector<float> rgba(static_cast<size_t>(package.description().pixelCount()) * 4);
-    basis::renderLookImage(package.description(), f, basis::decodeU(f), look, rgba);
+    basis::renderLookImage(package.description(), f, look, rgba);
     return rgba;
 }
 

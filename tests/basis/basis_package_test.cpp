@@ -12,10 +12,10 @@
 #include <glm/gtc/packing.hpp>
 #include <nlohmann/json.hpp>
 
-#include "basis/recombine.h"
 #include "package/error.h"
 #include "../support/temp_dir.h"
 #include "../world/synthetic_package.h"
+#include "reference_kernels.h"
 
 namespace firelook::basis {
 namespace {
@@ -108,7 +108,8 @@ TEST(BasisReader, FactorsRoundTrip) {
         EXPECT_TRUE(sameBytes(read.depth_a, direct.depth_a)) << "frame " << written.frame;
         for (const ExtinctionParams e : {ExtinctionParams{1.0f, 4.0f, 1.5f}, ExtinctionParams{1.7f, 4.0f, 1.5f}})
             for (int p = 0; p < d.pixelCount(); ++p)
-                EXPECT_NEAR(pixelAlpha(d, read, p, e), pixelAlpha(d, written, p, e), encoded.alpha_bound + 1e-6);
+                EXPECT_NEAR(reference::pixelAlpha(d, read, p, e), reference::pixelAlpha(d, written, p, e),
+                            encoded.alpha_bound + 1e-6);
     }
 }
 
@@ -145,7 +146,8 @@ TEST(BasisReader, HugeOpticalDepthsStayFinite) {
     const FrameFactors read = BasisReader::open(dir / "a.firelook").loadFrame(1);
     for (size_t i = 0; i < read.depth_b.size(); ++i) EXPECT_EQ(read.depth_b[i], 65504.0f) << i;
     for (size_t i = 0; i < read.depth_a.size(); ++i) ASSERT_TRUE(std::isfinite(read.depth_a[i])) << i;
-    for (int p = 0; p < d.pixelCount(); ++p) EXPECT_EQ(pixelAlpha(d, read, p, {1.5f, 4.0f, 1.5f}), 1.0f) << p;
+    for (int p = 0; p < d.pixelCount(); ++p)
+        EXPECT_EQ(reference::pixelAlpha(d, read, p, {1.5f, 4.0f, 1.5f}), 1.0f) << p;
 }
 
 TEST(BasisReader, MissingFrameNamesTheFile) {

@@ -72,9 +72,10 @@ TEST(CoefficientKernel, MatchesTheDefinitionAcrossRankBlocks) {
 TEST(CoefficientKernel, ComputeCoefficientsIsTheKernelAfterItsChecks) {
     BakeDescription d;
     static_cast<BasisModel&>(d) = model();
-    FrameFactors f;
+    ResidentFrame f;
     f.rank = 129;
-    f.svt = randomSvt(d, f.rank, 5u);
+    const std::vector<float> svt = randomSvt(d, f.rank, 5u);
+    f.svt.assign(svt.begin(), svt.end());
     const ExtinctionParams e{1.7, 3.0, 1.5};
     std::vector<float> checked(static_cast<size_t>(f.rank) * 3), kernel(checked.size());
     computeCoefficients(d, f, {e, kRbf, kLights}, checked);

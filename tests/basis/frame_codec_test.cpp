@@ -9,9 +9,9 @@
 #include <glm/gtc/packing.hpp>
 #include <random>
 
-#include "basis/recombine.h"
 #include "basis/source_balance.h"
 #include "codec_test_frames.h"
+#include "reference_kernels.h"
 
 namespace firelook::basis {
 namespace {
@@ -67,8 +67,8 @@ TEST(FrameCodec, AlphaWithinTheBoundForAnyLook) {
                     const ExtinctionParams e{tc, ks, kf};
                     double worst = 0.0;
                     for (int p = 0; p < d.pixelCount(); ++p)
-                        worst = std::max(worst, double(std::abs(pixelAlpha(d, original, p, e) -
-                                                                pixelAlpha(d, decoded, p, e))));
+                        worst = std::max(worst, double(std::abs(reference::pixelAlpha(d, original, p, e) -
+                                                                reference::pixelAlpha(d, decoded, p, e))));
                     // 1e-6: float rounding of the two alpha evaluations.
                     EXPECT_LE(worst, encoded.alpha_bound + 1e-6) << samples << " " << ks << " " << kf << " " << tc;
                 }
@@ -181,7 +181,8 @@ TEST(FrameCodec, ReportsTheBoundItCanKeep) {
         for (const float kf : {0.5f, 4.0f})
             for (int p = 0; p < d.pixelCount(); ++p) {
                 const ExtinctionParams e{1.3, ks, kf};
-                EXPECT_LE(std::abs(pixelAlpha(d, original, p, e) - pixelAlpha(d, decoded, p, e)), encoded.alpha_bound + 1e-6);
+                EXPECT_LE(std::abs(reference::pixelAlpha(d, original, p, e) - reference::pixelAlpha(d, decoded, p, e)),
+                          encoded.alpha_bound + 1e-6);
             }
     FrameCodecSettings zero;
     zero.basis_error = 0.0;

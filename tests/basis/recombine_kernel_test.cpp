@@ -1,8 +1,10 @@
-// The vectorised reconstruction (runtime/basis/recombine.cpp: 8-lane rank sums, alpha with a
-// polynomial exp) against a plain double-precision implementation of the same definition, written
-// here, on random data with negative, huge, infinite and NaN values, ranks that are not multiples
-// of 8, 1 to 16 footprint rays, and pixel counts that leave partial blocks.
-#include "basis/recombine.h"
+// The reconstruction against a plain double-precision implementation of its definition, written
+// here: the reference kernels (reference_kernels.h, plain float sums and exp, what the runtime's
+// resident kernels are checked against elsewhere) on random data with negative, huge, infinite
+// and NaN values, ranks that are not multiples of 8, 1 to 16 footprint rays, and pixel counts that
+// leave partial blocks; and the resident kernel's polynomial exp (runtime/basis/recombine.cpp)
+// over every code of a depth grid.
+#include "reference_kernels.h"
 
 #include <gtest/gtest.h>
 
@@ -12,6 +14,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -92,7 +95,7 @@ struct Reference {
     std::vector<double> rgb_bound;  // |computed - exact| allowed per channel (rounding of the float sum)
 };
 
-Reference reference(const Case& c, const ExtinctionParams& e) {
+Reference exactImage(const Case& c, const ExtinctionParams& e) {
     const size_t pixels = static_cast<size_t>(c.f.pixels), thresholds = c.d.alpha_thresholds.size();
     const int rank = c.f.rank, samples = c.d.footprint_samples;
     Reference out{std::vector<double>(pixels * 4), std::vector<double>(pixels * 3)};
@@ -135,17 +138,17 @@ Reference reference(const Case& c, const ExtinctionParams& e) {
     return out;
 }
 
-// The polynomial exp2 (within 7e-8 of exact alpha, AlphaAccuracyOverTheWholeRange) plus the float
-// rounding of tau = a O_a + b O_b (relative ~1e-7 of its terms, here <= 25, moving alpha by at most
-// e^-tau times that). Measured largest difference: 1.8e-7.
+// The float rounding of the depths' weights and of alpha (the reference sums in double): the
+// tolerance the vectorised float kernel once met here with its polynomial exp2 (1.8e-7 measured);
+// the resident kernel's polynomial is measured below (ResidentAlphaAccuracyOverTheWholeRange).
 constexpr double kAlphaTolerance = 5e-7;
 
 double g_worst_alpha = 0.0, g_worst_rgb = 0.0;  // largest |error| (alpha) and |error| / bound (rgb)
 
 void expectMatchesReference(const Case& c, const ExtinctionParams& e, const char* what) {
     std::vector<float> rgba(static_cast<size_t>(c.f.pixels) * 4, -1.0f);
-    reconstructImage(c.d, c.f, c.u, c.z, e, rgba);
-    const Reference ref = reference(c, e);
+    reference::reconstructImage(c.d, c.f, c.u, c.z, e, rgba);
+    const Reference ref = exactImage(c, e);
     int rgb_failures = 0, alpha_failures = 0;
     for (int p = 0; p < c.f.pixels; ++p) {
         for (int ch = 0; ch < 4; ++ch) {
@@ -167,8 +170,8 @@ void expectMatchesReference(const Case& c, const ExtinctionParams& e, const char
         if (std::fabs(rgba[p * 4 + 3] - ref.rgba[p * 4 + 3]) > kAlphaTolerance && alpha_failures++ < 5)
             ADD_FAILURE() << what << " pixel " << p << " alpha " << rgba[p * 4 + 3] << " vs " << ref.rgba[p * 4 + 3];
         // pixelAlpha is the same computation, bit for bit.
-        if (rgba[p * 4 + 3] != pixelAlpha(c.d, c.f, p, e) && alpha_failures++ < 5)
-            ADD_FAILURE() << what << " pixel " << p << ": pixelAlpha " << pixelAlpha(c.d, c.f, p, e)
+        if (rgba[p * 4 + 3] != reference::pixelAlpha(c.d, c.f, p, e) && alpha_failures++ < 5)
+            ADD_FAILURE() << what << " pixel " << p << ": pixelAlpha " << reference::pixelAlpha(c.d, c.f, p, e)
                           << " != image alpha " << rgba[p * 4 + 3];
     }
     // The special pixels behave as defined.
@@ -221,14 +224,14 @@ TEST(RecombineKernel, RankZeroIsBlack) {
     c.u.clear();
     c.z.clear();
     std::vector<float> rgba(static_cast<size_t>(c.f.pixels) * 4, -1.0f);
-    reconstructImage(c.d, c.f, c.u, c.z, kLooks[0], rgba);
+    reference::reconstructImage(c.d, c.f, c.u, c.z, kLooks[0], rgba);
     for (int p = 0; p < c.f.pixels; ++p) {
         for (int ch = 0; ch < 3; ++ch) EXPECT_EQ(rgba[p * 4 + ch], 0.0f);
-        EXPECT_EQ(rgba[p * 4 + 3], pixelAlpha(c.d, c.f, p, kLooks[0]));
+        EXPECT_EQ(rgba[p * 4 + 3], reference::pixelAlpha(c.d, c.f, p, kLooks[0]));
     }
 }
 
-// The exp approximation over the whole range of optical depth, one ray per pixel, against double:
+// The reference's alpha over the whole range of optical depth, one ray per pixel, against double:
 // tau = b O_b swept from 0 to 90 (past the point where alpha is exactly 1 in float).
 TEST(RecombineKernel, AlphaAccuracyOverTheWholeRange) {
     const int pixels = 200000;
@@ -243,7 +246,7 @@ TEST(RecombineKernel, AlphaAccuracyOverTheWholeRange) {
     const ExtinctionParams e{1.0, 1.0, 1.0};  // a = 0, b = 1: tau = O_b
     for (int p = 0; p < pixels; ++p) c.f.depth_b[p] = 90.0f * static_cast<float>(p) / (pixels - 1);
     std::vector<float> rgba(static_cast<size_t>(pixels) * 4);
-    reconstructImage(c.d, c.f, c.u, c.z, e, rgba);
+    reference::reconstructImage(c.d, c.f, c.u, c.z, e, rgba);
     double worst = 0.0;
     for (int p = 0; p < pixels; ++p) {
         const double tau = c.f.depth_b[p];
@@ -251,10 +254,40 @@ TEST(RecombineKernel, AlphaAccuracyOverTheWholeRange) {
     }
     EXPECT_EQ(rgba[3], 0.0f) << "tau = 0 is exactly clear";
     EXPECT_EQ(rgba[(pixels - 1) * 4 + 3], 1.0f);
-    // Documented in recombine.cpp: measured 6.9e-8 (AVX2 build); 1.5e-7 leaves room for the baseline
-    // build's unfused multiply-adds.
+    // The bound the resident kernel's polynomial meets too (below).
     EXPECT_LT(worst, 1.5e-7) << "largest alpha error " << worst;
     std::printf("alpha: largest error against double 1 - exp(-tau) over tau in [0, 90]: %.3g\n", worst);
+}
+
+// The resident kernel's exp approximation over the whole range of optical depth, one ray per
+// pixel, against double: every code of a depth grid that reaches far past tau = 90 (where alpha is
+// exactly 1 in float), tau = b D[q].
+TEST(RecombineKernel, ResidentAlphaAccuracyOverTheWholeRange) {
+    const std::shared_ptr<const DepthTable> table = DepthTable::build(1.0 / 4096, 0.01, 1.0);
+    const int pixels = static_cast<int>(table->depth.size());
+    ASSERT_GT(table->depth.back(), 90.0f);
+    BakeDescription d;
+    d.width = pixels;
+    d.height = 1;
+    d.alpha_thresholds = {1.0};
+    ResidentFrame f;
+    f.pixels = pixels;
+    f.depth_stride = 8;
+    f.mean_depth.assign(static_cast<size_t>(pixels) * f.depth_stride, 0);
+    for (int q = 0; q < pixels; ++q) f.mean_depth[static_cast<size_t>(q) * f.depth_stride] = static_cast<int16_t>(q);
+    f.depth_table = table;
+    const ExtinctionParams e{1.0, 1.0, 1.0};  // a = 0, b = 1: tau = O_b
+    std::vector<float> rgba(static_cast<size_t>(pixels) * 4);
+    reconstructImage(d, f, {}, e, rgba);
+    double worst = 0.0;
+    for (int q = 0; q < pixels; ++q)
+        worst = std::max(worst, std::fabs(rgba[q * 4 + 3] - (1.0 - std::exp(-double(table->depth[q])))));
+    EXPECT_EQ(rgba[3], 0.0f) << "tau = 0 is exactly clear";
+    EXPECT_EQ(rgba[(pixels - 1) * 4 + 3], 1.0f);
+    // recombine.cpp documents 7e-8; the same room as above for the baseline build.
+    EXPECT_LT(worst, 1.5e-7) << "largest alpha error " << worst;
+    std::printf("resident alpha: largest error against double 1 - exp(-tau) over %d depth codes: %.3g\n", pixels,
+                worst);
 }
 
 TEST(RecombineKernel, DepthLayersAreChecked) {
@@ -262,13 +295,13 @@ TEST(RecombineKernel, DepthLayersAreChecked) {
     std::vector<float> rgba(static_cast<size_t>(c.f.pixels) * 4);
     Case short_density = c;
     short_density.f.depth_b.pop_back();
-    EXPECT_THROW(reconstructImage(short_density.d, short_density.f, c.u, c.z, kLooks[0], rgba), std::invalid_argument);
+    EXPECT_THROW(reference::reconstructImage(short_density.d, short_density.f, c.u, c.z, kLooks[0], rgba), std::invalid_argument);
     Case short_sigmoid = c;
     short_sigmoid.f.depth_a.pop_back();
-    EXPECT_THROW(reconstructImage(short_sigmoid.d, short_sigmoid.f, c.u, c.z, kLooks[0], rgba), std::invalid_argument);
-    EXPECT_THROW(pixelAlpha(short_sigmoid.d, short_sigmoid.f, 0, kLooks[0]), std::invalid_argument);
-    EXPECT_THROW(pixelAlpha(c.d, c.f, -1, kLooks[0]), std::invalid_argument);
-    EXPECT_THROW(pixelAlpha(c.d, c.f, c.f.pixels, kLooks[0]), std::invalid_argument);
+    EXPECT_THROW(reference::reconstructImage(short_sigmoid.d, short_sigmoid.f, c.u, c.z, kLooks[0], rgba), std::invalid_argument);
+    EXPECT_THROW(reference::pixelAlpha(short_sigmoid.d, short_sigmoid.f, 0, kLooks[0]), std::invalid_argument);
+    EXPECT_THROW(reference::pixelAlpha(c.d, c.f, -1, kLooks[0]), std::invalid_argument);
+    EXPECT_THROW(reference::pixelAlpha(c.d, c.f, c.f.pixels, kLooks[0]), std::invalid_argument);
 }
 
 }  // namespace

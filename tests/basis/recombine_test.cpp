@@ -1,6 +1,7 @@
-// Coefficients z = S V^T w, reconstruction U z and exact alpha (runtime/basis/recombine.h), on
-// hand-built factors whose images can be computed by hand.
-#include "basis/recombine.h"
+// Coefficients z = S V^T w, reconstruction U z and exact alpha as defined by the reference kernels
+// (reference_kernels.h, what the runtime's resident kernels are checked against), on hand-built
+// factors whose images can be computed by hand.
+#include "reference_kernels.h"
 
 #include <gtest/gtest.h>
 
@@ -66,7 +67,7 @@ std::vector<float> recombineCoefficients(const BakeDescription& d, const FrameFa
                                 const ExtinctionParams& theta, const std::vector<Rgb>& c,
                                 const std::vector<Rgb>& e) {
     std::vector<float> z(static_cast<size_t>(f.rank) * 3);
-    computeCoefficients(d, f, {theta, c, e}, z);
+    reference::computeCoefficients(d, f, {theta, c, e}, z);
     return z;
 }
 
@@ -88,7 +89,7 @@ TEST(Recombine, ImageIsTheHandComputedWeightedSum) {
                                {d.axes.pointIndex(1, 0, 1), 0.25 * 0.5}};
     const std::vector<float> z = recombineCoefficients(d, f, theta, kCoefficients, kIrradiance);
     std::vector<float> rgba(static_cast<size_t>(f.pixels) * 4);
-    reconstructImage(d, f, decodeU(f), z, theta, rgba);
+    reference::reconstructImage(d, f, decodeU(f), z, theta, rgba);
     for (int p = 0; p < f.pixels; ++p) {
         for (int ch = 0; ch < 3; ++ch) {
             double expected = 0.0;
@@ -136,15 +137,15 @@ TEST(Recombine, ArgumentCountsAreChecked) {
     std::vector<float> z(static_cast<size_t>(f.rank) * 3);
     const ExtinctionParams theta{1.0, 1.0, 1.0};
     const std::vector<Rgb> two_bins(2, Rgb(1.0f)), four_bins(4, Rgb(1.0f)), two_lights(2, Rgb(1.0f));
-    EXPECT_THROW(computeCoefficients(d, f, {theta, two_bins, kIrradiance}, z), std::invalid_argument);
-    EXPECT_THROW(computeCoefficients(d, f, {theta, four_bins, kIrradiance}, z), std::invalid_argument);
-    EXPECT_THROW(computeCoefficients(d, f, {theta, kCoefficients, {}}, z), std::invalid_argument);
-    EXPECT_THROW(computeCoefficients(d, f, {theta, kCoefficients, two_lights}, z), std::invalid_argument);
+    EXPECT_THROW(reference::computeCoefficients(d, f, {theta, two_bins, kIrradiance}, z), std::invalid_argument);
+    EXPECT_THROW(reference::computeCoefficients(d, f, {theta, four_bins, kIrradiance}, z), std::invalid_argument);
+    EXPECT_THROW(reference::computeCoefficients(d, f, {theta, kCoefficients, {}}, z), std::invalid_argument);
+    EXPECT_THROW(reference::computeCoefficients(d, f, {theta, kCoefficients, two_lights}, z), std::invalid_argument);
     std::vector<float> short_z(static_cast<size_t>(f.rank) * 3 - 1);
-    EXPECT_THROW(computeCoefficients(d, f, {theta, kCoefficients, kIrradiance}, short_z),
+    EXPECT_THROW(reference::computeCoefficients(d, f, {theta, kCoefficients, kIrradiance}, short_z),
                  std::invalid_argument);
     try {
-        computeCoefficients(d, f, {theta, two_bins, kIrradiance}, z);
+        reference::computeCoefficients(d, f, {theta, two_bins, kIrradiance}, z);
     } catch (const std::invalid_argument& e) {
         EXPECT_NE(std::string(e.what()).find("bins"), std::string::npos) << e.what();
     }
@@ -152,9 +153,9 @@ TEST(Recombine, ArgumentCountsAreChecked) {
     const std::vector<float> u = decodeU(f);
     std::vector<float> rgba(static_cast<size_t>(f.pixels) * 4);
     std::vector<float> short_rgba(rgba.size() - 1);
-    EXPECT_THROW(reconstructImage(d, f, u, z, theta, short_rgba), std::invalid_argument);
-    EXPECT_THROW(reconstructImage(d, f, u, short_z, theta, rgba), std::invalid_argument);
-    EXPECT_THROW(reconstructImage(d, f, std::span<const float>(u).first(u.size() - 1), z, theta, rgba),
+    EXPECT_THROW(reference::reconstructImage(d, f, u, z, theta, short_rgba), std::invalid_argument);
+    EXPECT_THROW(reference::reconstructImage(d, f, u, short_z, theta, rgba), std::invalid_argument);
+    EXPECT_THROW(reference::reconstructImage(d, f, std::span<const float>(u).first(u.size() - 1), z, theta, rgba),
                  std::invalid_argument);
 }
 
@@ -171,7 +172,7 @@ TEST(Recombine, NegativeAndNonFiniteRadianceBecomesZero) {
     const ExtinctionParams theta{1.5, 1.0, 2.0};
     const std::vector<float> z = recombineCoefficients(d, f, theta, kCoefficients, kIrradiance);
     std::vector<float> rgba(static_cast<size_t>(f.pixels) * 4);
-    reconstructImage(d, f, u, z, theta, rgba);
+    reference::reconstructImage(d, f, u, z, theta, rgba);
     for (size_t i = 0; i < rgba.size(); ++i) {
         EXPECT_TRUE(std::isfinite(rgba[i])) << i;
         EXPECT_GE(rgba[i], 0.0f) << i;
@@ -188,7 +189,7 @@ TEST(Recombine, NegativeAndNonFiniteRadianceBecomesZero) {
     FrameFactors negative = identityFactors(d);
     for (float& v : negative.svt) v = -v;
     const std::vector<float> zn = recombineCoefficients(d, negative, theta, kCoefficients, kIrradiance);
-    reconstructImage(d, negative, decodeU(negative), zn, theta, rgba);
+    reference::reconstructImage(d, negative, decodeU(negative), zn, theta, rgba);
     for (int p = 0; p < negative.pixels; ++p)
         for (int ch = 0; ch < 3; ++ch) EXPECT_EQ(rgba[p * 4 + ch], 0.0f);
 }
@@ -205,15 +206,15 @@ TEST(Recombine, PixelAlphaInterpolatesOpticalDepthInThreshold) {
         const int lower = tc >= 1.5 ? 1 : 0;
         const double t = std::min((tc - d.alpha_thresholds[lower]) / 0.5, 1.0);
         const std::vector<float> z = recombineCoefficients(d, f, theta, kCoefficients, kIrradiance);
-        reconstructImage(d, f, decodeU(f), z, theta, rgba);
+        reference::reconstructImage(d, f, decodeU(f), z, theta, rgba);
         for (int p = 0; p < f.pixels; ++p) {
             const double o_a = (1.0 - t) * f.depth_a[lower * f.pixels + p] +
                                t * f.depth_a[std::min(lower + 1, 2) * f.pixels + p];
             const double o_b = f.depth_b[p];
             const double expected = 1.0 - std::exp(-(theta.a() * o_a + theta.b() * o_b));
             // Float depths and exp: a few float ulps.
-            EXPECT_NEAR(pixelAlpha(d, f, p, theta), expected, 1e-6) << "pixel " << p << " T_c " << tc;
-            EXPECT_EQ(rgba[p * 4 + 3], pixelAlpha(d, f, p, theta)) << "reconstructImage and pixelAlpha agree";
+            EXPECT_NEAR(reference::pixelAlpha(d, f, p, theta), expected, 1e-6) << "pixel " << p << " T_c " << tc;
+            EXPECT_EQ(rgba[p * 4 + 3], reference::pixelAlpha(d, f, p, theta)) << "reconstructImage and pixelAlpha agree";
         }
     }
 }
@@ -226,12 +227,12 @@ TEST(Recombine, RankZeroIsBlackWithAlphaFromDepths) {
     f.svt.clear();
     const ExtinctionParams theta{1.5, 1.0, 2.0};
     std::vector<float> z;
-    computeCoefficients(d, f, {theta, kCoefficients, kIrradiance}, z);
+    reference::computeCoefficients(d, f, {theta, kCoefficients, kIrradiance}, z);
     std::vector<float> rgba(static_cast<size_t>(f.pixels) * 4, -1.0f);
-    reconstructImage(d, f, decodeU(f), z, theta, rgba);
+    reference::reconstructImage(d, f, decodeU(f), z, theta, rgba);
     for (int p = 0; p < f.pixels; ++p) {
         for (int ch = 0; ch < 3; ++ch) EXPECT_EQ(rgba[p * 4 + ch], 0.0f);
-        EXPECT_EQ(rgba[p * 4 + 3], pixelAlpha(d, f, p, theta));
+        EXPECT_EQ(rgba[p * 4 + 3], reference::pixelAlpha(d, f, p, theta));
     }
 }
 
@@ -250,11 +251,11 @@ TEST(Recombine, AlphaIsTheMeanOverFootprintRays) {
     FrameFactors first_ray = identityFactors(single);
     std::vector<float> rgba(pixels * 4);
     const std::vector<float> z = recombineCoefficients(d, f, theta, kCoefficients, kIrradiance);
-    reconstructImage(d, f, decodeU(f), z, theta, rgba);
+    reference::reconstructImage(d, f, decodeU(f), z, theta, rgba);
     for (int p = 0; p < f.pixels; ++p) {
-        const double expected = 0.5 * pixelAlpha(single, first_ray, p, theta) + (p % 2 == 0 ? 0.0 : 0.5);
+        const double expected = 0.5 * reference::pixelAlpha(single, first_ray, p, theta) + (p % 2 == 0 ? 0.0 : 0.5);
         // Float sums of two alphas.
-        EXPECT_NEAR(pixelAlpha(d, f, p, theta), expected, 1e-6) << "pixel " << p;
+        EXPECT_NEAR(reference::pixelAlpha(d, f, p, theta), expected, 1e-6) << "pixel " << p;
         EXPECT_NEAR(rgba[p * 4 + 3], expected, 1e-6) << "pixel " << p;
     }
 }

@@ -16,6 +16,7 @@
 #include "basis/frame_codec.h"
 #include "basis/recombine.h"
 #include "codec_test_frames.h"
+#include "reference_kernels.h"
 
 namespace firelook::basis {
 namespace {
@@ -63,7 +64,7 @@ TEST(ResidentFrame, ReconstructsAsTheExpandedFrame) {
             const std::vector<float> z = residentCoefficients(d, resident, e);
             std::vector<float> a(size_t(d.pixelCount()) * 4), b(a.size());
             reconstructImage(d, resident, z, e, a);
-            reconstructImage(d, expanded, u, z, e, b);
+            reference::reconstructImage(d, expanded, u, z, e, b);
             for (int p = 0; p < d.pixelCount(); ++p) {
                 // The expanded U is the resident one rounded to half (relative 2^-11 per value),
                 // so each channel may differ by 2^-11 sum_k |U z_k|, plus float rounding.
@@ -249,7 +250,7 @@ TEST(ResidentFrame, EmptyPixelsAreLeftOutAndDecodeToZero) {
         std::vector<float> a(size_t(d.pixelCount()) * 4), b(a.size());
         const std::vector<float> z = residentCoefficients(d, f, e);
         reconstructImage(d, f, z, e, a);
-        reconstructImage(d, expanded, decodeU(expanded), z, e, b);
+        reference::reconstructImage(d, expanded, decodeU(expanded), z, e, b);
         for (int p = 0; p < d.pixelCount(); ++p) {
             EXPECT_NEAR(a[p * 4 + 3], b[p * 4 + 3], 1e-6) << radius << " " << p;  // as in ReconstructsAsTheExpandedFrame
             const auto row = f.w.begin() + ptrdiff_t(p) * f.rank_stride;

@@ -59,9 +59,9 @@ void loadAndRenderFrames(const basis::BasisReader& package) {
         }
     }
     for (const basis::FrameRecord& record : d.frames) {
-        basis::FrameFactors factors;
+        basis::ResidentFrame frame;
         try {
-            factors = package.loadFrame(record.frame);
+            frame = package.loadResidentFrame(record.frame, std::pmr::get_default_resource());
         } catch (const std::exception& e) {
             checkNamesFile(e, package.file());
             continue;
@@ -69,7 +69,7 @@ void loadAndRenderFrames(const basis::BasisReader& package) {
         if (!have_look) continue;
         std::vector<float> rgba(static_cast<std::size_t>(d.pixelCount()) * 4, -1.0f);
         try {
-            basis::renderLookImage(d, factors, basis::decodeU(factors), look, rgba);
+            basis::renderLookImage(d, frame, look, rgba);
         } catch (const LookError& e) {
             checkNamesFile(e, package.file());
             continue;

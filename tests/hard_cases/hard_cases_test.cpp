@@ -183,10 +183,10 @@ Look packageLook(const basis::BasisReader& package) {
 }
 
 Image render(const basis::BasisReader& package, int frame, const Look& look) {
-    const basis::FrameFactors factors = package.loadFrame(frame);
+    const basis::ResidentFrame resident = package.loadResidentFrame(frame, std::pmr::get_default_resource());
     Image image;
     image.rgba.assign(static_cast<std::size_t>(package.description().pixelCount()) * 4, -1.0f);
-    basis::renderLookImage(package.description(), factors, basis::decodeU(factors), look, image.rgba);
+    basis::renderLookImage(package.description(), resident, look, image.rgba);
     expectSane(image, package.file().filename().string() + " frame " + std::to_string(frame));
     return image;
 }

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <memory_resource>
 #include <numeric>
 #include <vector>
 
@@ -95,7 +96,7 @@ int main(int argc, char** argv) {
     testing::writeSyntheticPackage(dir / "bench.firelook", shape);
     auto package = world::Package::open(dir / "bench.firelook");
     const basis::BakeDescription& d = package->description();
-    const basis::FrameFactors factors = package->basis().loadFrame(1);
+    const basis::ResidentFrame factors = package->basis().loadResidentFrame(1, std::pmr::get_default_resource());
     std::printf("bench_runtime: synthetic package %dx%d, rank %d, %d bins, %d lights, grid %zux%zux%zu (%d columns)\n",
                 d.width, d.height, factors.rank, d.bins.count, static_cast<int>(d.light_directions.size()),
                 d.axes.temperature_threshold.size(), d.axes.smoke_extinction.size(), d.axes.flame_extinction.size(),
@@ -174,16 +175,15 @@ int main(int argc, char** argv) {
                     s * 1e3, g_cpu * 1e3);
     }
 
-    // 3. CPU reconstruction of a 512 x 512 image vs a plain read of memory, both in this run.
-    //    Throughput = the bytes the reconstruction must read (U as float, rank x 4 bytes per pixel,
-    //    plus per footprint ray O_b and the one or two O_a threshold layers that bracket T_c) divided
-    //    by its time. The 16 bytes per pixel it writes are not counted. Plain read: summing a 256 MiB
+    // 3. CPU reconstruction of a 512 x 512 image (the resident form) vs a plain read of memory, both
+    //    in this run. Throughput = the bytes the reconstruction reads (W, rank_stride x 2 bytes per
+    //    pixel, and the depth codes, depth_stride x 2 bytes per mean ray and per ray of a detailed
+    //    pixel) divided by its time. The 16 bytes per pixel it writes are not counted. Plain read: summing a 256 MiB
     //    float array (8 x the L3 of the machine this was written on). The two alternate, repetition
     //    by repetition, so that both see the same load on a shared machine; the ratio reported is
     //    the median of the per-repetition ratios (and the ratio of the medians alongside).
     std::vector<float> image(static_cast<size_t>(d.pixelCount()) * 4);
     {
-        const std::vector<float> u = basis::decodeU(factors);
         const LookModel model = makeLookModel(a, d.bins, d.rbf_width, d.light_directions);
         std::vector<float> z(static_cast<size_t>(factors.rank) * 3);
         basis::computeCoefficients(d, factors, {a.extinction(), model.emission.coefficients, a.light_irradiance}, z);
@@ -207,27 +207,30 @@ int main(int argc, char** argv) {
             return v[v.size() / 2];
         };
         for (const int samples : {1, 4, 16}) {
-            // The same frame with `samples` footprint rays per pixel (ray s scales the frame's depths).
+            // The same frame with `samples` footprint rays per pixel, every pixel detailed (each ray
+            // a copy of the pixel's mean ray: the most a frame reads).
             basis::BakeDescription ds = d;
             ds.footprint_samples = samples;
-            basis::FrameFactors fs = factors;
-            fs.depth_b.resize(pixels * samples);
-            fs.depth_a.resize(pixels * samples * thresholds);
-            for (int s = samples - 1; s >= 0; --s) {
-                const float scale = 0.6f + 0.8f * static_cast<float>(s) / static_cast<float>(std::max(samples - 1, 1));
-                for (size_t p = 0; p < pixels; ++p) fs.depth_b[s * pixels + p] = scale * factors.depth_b[p];
-                for (size_t t = 0; t < thresholds; ++t)
-                    for (size_t p = 0; p < pixels; ++p)
-                        fs.depth_a[(s * thresholds + t) * pixels + p] = scale * factors.depth_a[t * pixels + p];
+            basis::ResidentFrame fs = factors;
+            fs.samples = samples;
+            fs.detailed_pixels.clear();
+            fs.detailed_depth.clear();
+            const size_t stride = static_cast<size_t>(fs.depth_stride);
+            for (size_t p = 0; samples > 1 && p < pixels; ++p) {
+                fs.detailed_pixels.push_back(static_cast<int32_t>(p));
+                for (int s = 0; s < samples; ++s)
+                    fs.detailed_depth.insert(fs.detailed_depth.end(), factors.mean_depth.begin() + p * stride,
+                                             factors.mean_depth.begin() + (p + 1) * stride);
             }
-            const double bytes = static_cast<double>(u.size()) * sizeof(float) +
-                                 static_cast<double>(pixels) * samples * (between ? 3 : 2) * sizeof(float);
-            basis::reconstructImage(ds, fs, u, z, extinction, image);  // warm-up
+            const double u_bytes = static_cast<double>(fs.w.size()) * sizeof(int16_t);
+            const double bytes = u_bytes + static_cast<double>(fs.mean_depth.size() + fs.detailed_depth.size()) *
+                                               sizeof(int16_t);
+            basis::reconstructImage(ds, fs, z, extinction, image);  // warm-up
             std::vector<double> t_rec, c_rec, t_read, c_read, ratio, ratio_cpu;
             for (int r = 0; r < reps; ++r) {
                 t_read.push_back(medianSeconds(1, [&] { g_sink = plainRead(big.data(), big.size()); }));
                 c_read.push_back(g_cpu);
-                t_rec.push_back(medianSeconds(1, [&] { basis::reconstructImage(ds, fs, u, z, extinction, image); }));
+                t_rec.push_back(medianSeconds(1, [&] { basis::reconstructImage(ds, fs, z, extinction, image); }));
                 c_rec.push_back(g_cpu);
                 ratio.push_back((bytes / t_rec.back()) / (big_bytes / t_read.back()));
                 ratio_cpu.push_back((bytes / c_rec.back()) / (big_bytes / c_read.back()));
@@ -235,15 +238,14 @@ int main(int argc, char** argv) {
             const double s_rec = median(t_rec), s_read = median(t_read);
             const double gbs_rec = bytes / s_rec / 1e9, gbs_read = big_bytes / s_read / 1e9;
             std::printf("CPU reconstruction 512x512, rank %d, footprint_samples %d: median %.2f ms (CPU %.2f ms), "
-                        "%.1f MiB read (U float %.1f MiB + depths %.1f MiB) = %.2f GB/s; plain read alongside %.2f GB/s "
+                        "%.1f MiB read (W int16 %.1f MiB + depth codes %.1f MiB) = %.2f GB/s; plain read alongside %.2f GB/s "
                         "(CPU %.2f GB/s); ratio %.2f (of medians %.2f; by CPU time %.2f)\n",
                         factors.rank, samples, s_rec * 1e3, median(c_rec) * 1e3, bytes / (1 << 20),
-                        static_cast<double>(u.size()) * sizeof(float) / (1 << 20),
-                        (bytes - static_cast<double>(u.size()) * sizeof(float)) / (1 << 20), gbs_rec, gbs_read,
+                        u_bytes / (1 << 20), (bytes - u_bytes) / (1 << 20), gbs_rec, gbs_read,
                         big_bytes / median(c_read) / 1e9, median(ratio), gbs_rec / gbs_read, median(ratio_cpu));
         }
         big = {};
-        basis::reconstructImage(d, factors, u, z, extinction, image);  // the S = 1 image feeds the flare
+        basis::reconstructImage(d, factors, z, extinction, image);  // the S = 1 image feeds the flare
     }
     {
         // 4. Lens flare on that image (scaled so the flame crosses the threshold).

@@ -52,7 +52,7 @@ Look lookB(double albedo = 0.7) {
 
 std::vector<float> referenceZ(const Package& p, int frame, const Look& look) {
     const auto& d = p.description();
-    const basis::FrameFactors f = p.basis().loadFrame(frame);
+    const basis::ResidentFrame f = p.basis().loadResidentFrame(frame, std::pmr::get_default_resource());
     const LookModel model = makeLookModel(look, d.bins, d.rbf_width, d.light_directions);
     std::vector<float> z(static_cast<size_t>(f.rank) * 3);
     basis::computeCoefficients(d, f, {look.extinction(), model.emission.coefficients, look.light_irradiance}, z);
