@@ -12,7 +12,7 @@
 // Optical depths are stored through the companding g(O) = integral over [0, O] of
 // max over k in [k_lo, k_hi] of k e^(-k x) dx, where [k_lo, k_hi] spans the package's baked
 // extinctions: a step dg moves the alpha of one ray by at most c dg for any look in the axes'
-// range (c = max(1, max k_f / min k_s); see frame_codec.cpp), so the alpha error of any pixel,
+// range (c = max(1, max k_f / min k_s); see depth_companding.cpp), so the alpha error of any pixel,
 // for any look, is bounded by `alpha_error` whatever the depth.
 #pragma once
 
@@ -23,14 +23,11 @@
 #include <vector>
 
 #include "basis/bake_description.h"
+#include "basis/depth_companding.h"
 #include "basis/frame_factors.h"
 #include "basis/resident_frame.h"
 
 namespace firelook::basis {
-
-// Optical depths decode to at most this, the largest finite half (layout 1 stored depths as
-// halves): every transmittance exp(-k * 65504) is 0 in float for k above 0.0016.
-inline constexpr float kLargestDepth = 65504.0f;
 
 struct FrameCodecSettings {
     // Largest alpha error the stored depths may add, per pixel and for any look in the axes'
@@ -63,9 +60,6 @@ struct EncodedFrame {
 EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors& factors,
                          const FrameCodecSettings& settings);
 
-// A frame's sizes as the description gives them, with no values yet (what a reader fills in).
-FrameFactors emptyFrameFactors(const BakeDescription& description, int frame, int rank);
-
 // The resident form of a frame (resident_frame.h), its memory from `memory`; `table` is reused
 // when the frame's depth grid is the same (else a new one is built). Reads payload versions 1
 // to 3. Throws std::runtime_error (naming `source` and the frame) when a payload does not match
@@ -92,25 +86,5 @@ void decodeResidentSvt(const BakeDescription& description, int frame, int rank, 
                        const std::string& source, ResidentFrame& out);
 void decodeResidentDepths(const BakeDescription& description, int frame, int rank, std::span<const std::byte> depths,
                           const std::string& source, ResidentFrame& out);
-
-// The float layout of FrameFactors from the resident form (U rounded to half), for the tools and
-// the GPU upload.
-FrameFactors expandFrame(const BakeDescription& description, const ResidentFrame& frame);
-
-// decodeResidentFrame, then expandFrame.
-FrameFactors decodeFrame(const BakeDescription& description, int frame, int rank, std::span<const std::byte> u,
-                         std::span<const std::byte> svt, std::span<const std::byte> depths,
-                         const std::string& source);
-
-// The depth companding (exposed for tests): g, its inverse and the alpha bound factor c.
-struct DepthCompanding {
-    double k_lo = 1.0, k_hi = 1.0;
-    static DepthCompanding forAxes(const ParameterAxes& axes);
-    double forward(double depth) const;   // g(O), in [0, limit())
-    double inverse(double value) const;   // O for g(O) = value; +inf at or above limit()
-    double limit() const;                 // g(infinity)
-    double alphaFactor() const;           // c
-    double k_f_hi = 1.0, k_s_lo = 1.0;
-};
 
 }  // namespace firelook::basis
