@@ -17,16 +17,45 @@ namespace {
 constexpr int kPhotonChunks = 4;
 constexpr int kChunksAtOnce = 2;
 
-glm::dvec3 uniformDirection(render::Pcg32& rng) {
-    const double z = 1.0 - 2.0 * rng.uniform();
+// The unit sphere's area-preserving map from [0, 1)^2.
+glm::dvec3 uniformDirection(double u, double v) {
+    const double z = 1.0 - 2.0 * u;
     const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    const double phi = 2.0 * std::numbers::pi * rng.uniform();
+    const double phi = 2.0 * std::numbers::pi * v;
     return {r * std::cos(phi), r * std::sin(phi), z};
 }
+
+// Photon n of a pass of N starts from u = (n + xi) / N in the start sampler's cdf (stratified: every
+// brick and cube gets its share of photons to within one, not a Poisson number) and flies along
+// point n of the R2 lattice (additive recurrence on the plastic number), shifted by one random
+// offset per pass (Cranley-Patterson) so that each direction is uniform on its own. Both keep every
+// photon's start and direction distributed as before, so the estimator stays exact; what changes is
+// the photon noise of each cell's Lbar. In dense smoke a photon deposits most of its light within a
+// cell or two of its start, so the random number of photons starting near a cell was most of that
+// noise. Measured on dense smoke (frame 20 of samples/data/smoke at albedo 0.95, 128x128, one look,
+// two seeds): seed-to-seed relative RMSE of the image 1.26% with independent draws, 0.95% with
+// these (as much as 1.75 times the photons would give, at no cost); image means within 0.1%.
+// On tests/bake's thick box (BasisTracer.ThickHighAlbedoSmokeKeepsItsEnergy, seeds 1-6) the
+// spread of the image's sum fell from 1.7% to 0.3% (0.5% with stratified starts alone).
+struct PhotonSequence {
+    double shift_u = 0.0, shift_v = 0.0;
+    static constexpr double kAlpha1 = 0.7548776662466927;  // 1 / plastic number
+    static constexpr double kAlpha2 = 0.5698402909980532;  // 1 / plastic number^2
+
+    static double fraction(double x) { return x - std::floor(x); }
+    glm::dvec3 direction(int n) const {
+        return uniformDirection(fraction(shift_u + kAlpha1 * n), fraction(shift_v + kAlpha2 * n));
+    }
+};
 
 void traceChunk(const TransportContext& ctx, SourceKind kind, const PhotonStartSampler& sampler,
                 const std::vector<float>* previous, int photons, std::uint64_t seed, int chunk,
                 std::vector<float>& field) {
+    // One shift per pass, from a stream no photon uses (photon indices are below 2^31).
+    render::Pcg32 pass_rng = render::Pcg32::forSample(seed, static_cast<uint64_t>(kind), uint64_t(1) << 40);
+    PhotonSequence sequence;
+    sequence.shift_u = pass_rng.uniform();
+    sequence.shift_v = pass_rng.uniform();
     const TraceTables& tb = ctx.tables;
     const int G = tb.points, C = tb.columns;
     field.assign(ctx.field_size, 0.0f);
@@ -46,7 +75,7 @@ void traceChunk(const TransportContext& ctx, SourceKind kind, const PhotonStartS
     for (int n = first; n < last; ++n) {
         if ((n & 255) == 0 && ctx.stop.load(std::memory_order_relaxed)) return;
         render::Pcg32 rng = render::Pcg32::forSample(seed, static_cast<uint64_t>(kind), static_cast<uint64_t>(n));
-        const PhotonStartSampler::Start start = sampler.sample(rng);
+        const PhotonStartSampler::Start start = sampler.sample((n + rng.uniform()) / photons, rng);
         const render::MediumSample at = ctx.medium.sampleIndex(start.point);
         const double pdf = start.pdf / voxel_volume;
         if (!(pdf > 0.0) || !(at.density > 0.0f)) continue;
@@ -98,7 +127,7 @@ void traceChunk(const TransportContext& ctx, SourceKind kind, const PhotonStartS
             col_first = tb.bins;
         }
 
-        const glm::dvec3 direction = uniformDirection(rng);
+        const glm::dvec3 direction = sequence.direction(n);
         const IndexRay ray{start.point, glm::dmat3(ctx.medium.worldToIndex()) * direction};
         double t0, t1;
         if (!clipToBox(ray, cell_box, t0, t1)) continue;

@@ -51,13 +51,15 @@ double PhotonStartSampler::cubeWeights(std::size_t brick, double* weights) const
     return sum;
 }
 
-PhotonStartSampler::Start PhotonStartSampler::sample(render::Pcg32& rng) const {
-    const double u = rng.uniform();
+PhotonStartSampler::Start PhotonStartSampler::sample(double u, render::Pcg32& rng) const {
     std::size_t b = static_cast<std::size_t>(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin());
     b = std::min(b, bricks_.size() - 1);
     double w[kCubes];
     const double brick_total = cubeWeights(b, w);
-    double pick = rng.uniform() * brick_total;
+    // Where u falls within the brick's interval of the cdf is uniform in [0, 1) and picks the cube.
+    const double lo = b > 0 ? cdf_[b - 1] : 0.0;
+    const double within = cdf_[b] > lo ? std::clamp((u - lo) / (cdf_[b] - lo), 0.0, 1.0) : 0.0;
+    double pick = within * brick_total;
     int cube = 0;
     while (cube < kCubes - 1 && (pick >= w[cube] || w[cube] == 0.0)) {
         pick -= w[cube];

@@ -28,7 +28,10 @@ class PhotonStartSampler {
         glm::dvec3 point;  // index space
         double pdf = 0.0;  // per unit index volume
     };
-    Start sample(render::Pcg32& rng) const;
+    // `u` in [0, 1) picks the brick and then, by where it falls within that brick's share, the
+    // cube: photons given stratified u (photon_pass.cpp) start in every brick and cube in
+    // proportion to its weight, not in Poisson numbers. `rng` places the point inside the cube.
+    Start sample(double u, render::Pcg32& rng) const;
     bool empty() const { return bricks_.empty(); }
 
   private:
