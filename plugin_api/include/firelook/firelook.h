@@ -332,7 +332,9 @@ enum { FL_EMISSION_PRESET = 0, FL_EMISSION_STOPS = 1, FL_EMISSION_BINS = 2 };
 
 /* A look's values in plain form, for editors: the keys of a look file without its JSON. In
    fl_look_create the pointers are read for their counts; fl_look_get_desc leaves them null and writes the
-   arrays to buffers of its own arguments. First published size: through reserved. */
+   arrays to buffers of its own arguments. Unlike the other desc structs, 0 is a value here, not a default:
+   fill every field (fl_look_get_desc of an existing look is a good start). First published size: through
+   reserved. */
 typedef struct fl_look_desc {
     uint32_t struct_size;
     int32_t emission_form;      /* FL_EMISSION_PRESET, FL_EMISSION_STOPS or FL_EMISSION_BINS */
