@@ -1,13 +1,13 @@
 // firelook animate PACKAGE --key F:LOOK.json [--key ...] -o DIR
 // Renders every frame of a package with a look keyframed across the sequence:
-// at each frame the look is interpolated linearly between the surrounding keys
-// (the paper's figure 1), held constant before the first and after the last.
+// at each frame the look is blended between the surrounding keys by the runtime's one keyed-look
+// rule (runtime/look/look_blend.h, the paper's figure 1), held constant before the first and after
+// the last, so each frame shows what the world and the C API show for the same keys.
 // Writes DIR/frame_NNNN.png (and .exr with --exr) and DIR/contact_sheet.png: all or nothing
 // (cli/staging_folder.h).
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-
 
 #include "basis/basis_package.h"
 #include "basis/look_renderer.h"
@@ -18,6 +18,7 @@
 #include "cli/staging_folder.h"
 #include "image/contact_sheet.h"
 #include "image/image_io.h"
+#include "look/look_blend.h"
 #include "world/keyframe_bracket.h"
 
 namespace firelook::cli {
@@ -42,11 +43,12 @@ LookKey parseKey(const std::string& text) {
     return key;
 }
 
-// The keys bracket as the runtime's keyframes do (runtime/world/keyframe_bracket.h).
-Look lookAtFrame(const std::vector<LookKey>& keys, int frame, const TemperatureBins& bins) {
+// The keys bracket and blend as the runtime's keyframes do (runtime/world/keyframe_bracket.h,
+// runtime/look/look_blend.h).
+Look lookAtFrame(const std::vector<LookKey>& keys, int frame, const basis::BakeDescription& d) {
     const world::KeyframeBracket bracket = world::bracketKeyframes(keys, frame);
     if (bracket.lo == bracket.hi) return keys[bracket.lo].look;
-    return interpolateLooks(keys[bracket.lo].look, keys[bracket.hi].look, bracket.t, bins);
+    return interpolateLooks(keys[bracket.lo].look, keys[bracket.hi].look, bracket.t, d.bins, d.rbf_width);
 }
 
 }  // namespace
@@ -62,7 +64,7 @@ void registerAnimateCommand(CLI::App& app) {
     auto args = std::make_shared<Args>();
     CLI::App* cmd = app.add_subcommand("animate", "Render every frame with looks keyframed across the sequence");
     cmd->add_option("PACKAGE", args->package, ".firelook package")->required()->check(CLI::ExistingFile);
-    cmd->add_option("--key", args->keys, "keyframe FRAME:LOOK.json (repeat; linear in between)")->required();
+    cmd->add_option("--key", args->keys, "keyframe FRAME:LOOK.json (repeat; blended linearly in between)")->required();
     addOutputOption(*cmd, args->out_dir, "output folder (created)", {"--out-dir"})->required();
     cmd->add_option("--exposure", args->exposure, "PNG exposure in stops")->capture_default_str();
     cmd->add_option("--columns", args->columns, "contact sheet columns")->check(CLI::Range(1, 64))->capture_default_str();
@@ -88,7 +90,7 @@ void registerAnimateCommand(CLI::App& app) {
             const int frame = d.frames[n].frame;
             const basis::ResidentFrame resident = package.loadResidentFrame(frame, std::pmr::get_default_resource());
             image::ImageRGBA image(d.width, d.height);
-            basis::renderLookImage(d, resident, lookAtFrame(keys, frame, d.bins), image.pixels);
+            basis::renderLookImage(d, resident, lookAtFrame(keys, frame, d), image.pixels);
             char name[32];
             std::snprintf(name, sizeof name, "frame_%04d", frame);
             image::writeImage(staging / (std::string(name) + ".png"), image, png);

@@ -4,6 +4,7 @@
 #include "firelook/firelook.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -22,7 +23,10 @@
 #include "common/error.h"
 #include "fit/look_fit.h"
 #include "gpu_layers.h"
+#include "image/fit_target.h"
+#include "look/emission_presets.h"
 #include "look/look.h"
+#include "look_desc.h"
 #include "result_table.h"
 #include "struct_rule.h"
 #include "world/handle_pool.h"
@@ -579,6 +583,63 @@ FIRELOOK_API fl_result fl_look_get_bin_emissivity(fl_look lh, fl_package ph, flo
     });
 }
 
+FIRELOOK_API fl_result fl_look_create(const fl_look_desc* desc_in, const char* source_name, fl_look* out) {
+    return guarded("fl_look_create", [&] {
+        checkPointer(out, "out_look");
+        out->id = 0;
+        const fl_look_desc desc = readIn(desc_in, "desc");
+        addLook(std::make_shared<const Look>(plugin::lookFromDesc(desc, source_name ? source_name : "look")), out);
+    });
+}
+
+FIRELOOK_API fl_result fl_look_get_desc(fl_look h, fl_look_desc* out_desc, double* stops, uint32_t stop_capacity,
+                                        float* bins, uint32_t bin_capacity, float* lights, uint32_t light_capacity) {
+    return guarded("fl_look_get_desc", [&] {
+        checkStruct(out_desc, "out_desc");
+        const auto look = findLook(h);
+        const fl_look_desc desc = plugin::descOf(*look);
+        // Each array: capacity 0 leaves it unwritten; else it must hold the whole array.
+        const auto buffer = [](auto* pointer, uint32_t capacity, uint32_t count, size_t per, const char* what) {
+            using Span = std::span<std::remove_pointer_t<decltype(pointer)>>;
+            if (isSizeQuery(capacity)) return Span();
+            checkPointer(pointer, what);
+            checkCapacity(capacity, count, what);
+            return Span(pointer, size_t{count} * per);
+        };
+        const auto stop_span = buffer(stops, stop_capacity, desc.stop_count, 4, "stops");
+        const auto bin_span = buffer(bins, bin_capacity, desc.bin_count, 3, "bins");
+        const auto light_span = buffer(lights, light_capacity, desc.light_count, 3, "lights");
+        plugin::writeLookArrays(*look, stop_span, bin_span, light_span);
+        writeOut(out_desc, desc);
+    });
+}
+
+FIRELOOK_API fl_result fl_look_load_file(const char* path, fl_look* out) {
+    return guarded("fl_look_load_file", [&] {
+        checkPointer(path, "path");
+        checkPointer(out, "out_look");
+        out->id = 0;
+        addLook(std::make_shared<const Look>(loadLook(path)), out);  // LookError coded IoError or Look
+    });
+}
+
+FIRELOOK_API fl_result fl_emission_preset_count(uint32_t* out_count) {
+    return guarded("fl_emission_preset_count", [&] {
+        checkPointer(out_count, "out_count");
+        *out_count = static_cast<uint32_t>(presetNames().size());
+    });
+}
+
+FIRELOOK_API fl_result fl_emission_preset_name(uint32_t index, char* buffer, size_t capacity, size_t* out_size) {
+    return guarded("fl_emission_preset_name", [&] {
+        const std::vector<std::string> names = presetNames();
+        if (index >= names.size())
+            fail(FL_ERROR_NOT_FOUND, "no emission preset " + std::to_string(index) + " (there are " +
+                                         std::to_string(names.size()) + ")");
+        writeText(names[index], buffer, capacity, out_size);
+    });
+}
+
 // ---- inverse design -------------------------------------------------------------
 
 FIRELOOK_API fl_result fl_package_fit_look(fl_package h, const fl_fit_desc* desc_in, fl_look* out,
@@ -625,6 +686,66 @@ FIRELOOK_API fl_result fl_package_fit_look(fl_package h, const fl_fit_desc* desc
             writeOut(report, out_report);
         }
         addLook(std::make_shared<const Look>(r.look), out);
+    });
+}
+
+FIRELOOK_API fl_result fl_fit_target_load(fl_package h, const fl_fit_target_desc* desc_in, float* rgba,
+                                          float* weights, size_t pixel_capacity, size_t* out_pixel_count,
+                                          fl_fit_target_info* out_info) {
+    return guarded("fl_fit_target_load", [&] {
+        const fl_fit_target_desc desc = readIn(desc_in, "desc");
+        const auto p = findPackage(h);
+        const basis::BakeDescription& d = p->description();
+        const size_t pixels = static_cast<size_t>(d.pixelCount());
+        if (out_pixel_count) *out_pixel_count = pixels;
+        if (isSizeQuery(pixel_capacity)) return;
+        checkPointer(desc.target_path, "desc->target_path");
+        checkPointer(rgba, "rgba");
+        checkPointer(weights, "weights");
+        checkStruct(out_info, "out_info");
+        if (desc.flags & ~static_cast<uint32_t>(FL_FIT_OVER_BACKGROUND))
+            fail(FL_ERROR_INVALID_ARGUMENT, "desc->flags has bits other than FL_FIT_OVER_BACKGROUND");
+        checkFinite(desc.exposure, "desc->exposure");
+        checkCapacity(pixel_capacity, pixels, "pixels");
+        image::FitTargetRequest request;
+        request.target = desc.target_path;
+        if (desc.mask_path) request.mask = desc.mask_path;
+        request.width = d.width;
+        request.height = d.height;
+        request.frame = desc.frame;
+        if (desc.flags & FL_FIT_OVER_BACKGROUND) {
+            for (int c = 0; c < 3; ++c) checkFinite(desc.background[c], "desc->background");
+            request.background = std::array<float, 3>{desc.background[0], desc.background[1], desc.background[2]};
+        }
+        request.exposure = desc.exposure;
+        const image::FitTargetImage target = image::readFitTarget(request);  // Error: IoError or InvalidArgument
+        std::copy(target.rgba.begin(), target.rgba.end(), rgba);
+        std::copy(target.weight.begin(), target.weight.end(), weights);
+        fl_fit_target_info info{};
+        info.flags = target.match_alpha ? 0u : static_cast<uint32_t>(FL_FIT_OVER_BACKGROUND);
+        for (int c = 0; c < 3; ++c) info.background[c] = target.background[c];
+        info.clipped_pixels = target.clipped_pixels;
+        writeOut(out_info, info);
+    });
+}
+
+FIRELOOK_API fl_result fl_fit_difference(const float* target_rgba, const float* fit_rgba, size_t pixel_count,
+                                         uint32_t flags, const float* background, float* out_rgba) {
+    return guarded("fl_fit_difference", [&] {
+        checkPointer(target_rgba, "target_rgba");
+        checkPointer(fit_rgba, "fit_rgba");
+        checkPointer(out_rgba, "out_rgba");
+        if (pixel_count == 0) fail(FL_ERROR_INVALID_ARGUMENT, "pixel_count is 0");
+        if (flags & ~static_cast<uint32_t>(FL_FIT_OVER_BACKGROUND))
+            fail(FL_ERROR_INVALID_ARGUMENT, "flags has bits other than FL_FIT_OVER_BACKGROUND");
+        const bool over = flags & FL_FIT_OVER_BACKGROUND;
+        if (over) checkPointer(background, "background");
+        const std::array<float, 3> bg = over ? std::array<float, 3>{background[0], background[1], background[2]}
+                                             : std::array<float, 3>{0.0f, 0.0f, 0.0f};
+        const std::vector<float> difference =
+            image::fitDifference(std::vector<float>(target_rgba, target_rgba + 4 * pixel_count), !over, bg,
+                                 std::vector<float>(fit_rgba, fit_rgba + 4 * pixel_count));
+        std::copy(difference.begin(), difference.end(), out_rgba);
     });
 }
 

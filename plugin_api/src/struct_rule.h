@@ -36,6 +36,9 @@ FIRELOOK_FIRST_SIZE(fl_fit_desc, progress_user);
 FIRELOOK_FIRST_SIZE(fl_fit_report, evaluations);
 FIRELOOK_FIRST_SIZE(fl_fire_light, radius);
 FIRELOOK_FIRST_SIZE(fl_light_direction_desc, reserved2);
+FIRELOOK_FIRST_SIZE(fl_look_desc, reserved);
+FIRELOOK_FIRST_SIZE(fl_fit_target_desc, exposure);
+FIRELOOK_FIRST_SIZE(fl_fit_target_info, clipped_pixels);
 #undef FIRELOOK_FIRST_SIZE
 
 // The caller's struct_size (the first field of every struct that has one), read without assuming

@@ -164,39 +164,4 @@ LookModel makeLookModel(const Look& look, const TemperatureBins& bins, double rb
     return model;
 }
 
-Look interpolateLooks(const Look& a, const Look& b, double t, const TemperatureBins& bins) {
-    const std::string name =
-        detail::lookDisplayName(a.source_name) + " -> " + detail::lookDisplayName(b.source_name);
-    if (!std::isfinite(t)) throwLookError(name, "", "interpolation parameter must be finite");
-    if (a.albedo != b.albedo)
-        throwLookError(name, "albedo",
-                       "differs (" + std::to_string(a.albedo) + " vs " + std::to_string(b.albedo) +
-                           "); it is fixed when a package is baked, so keyframes must share it");
-    if (a.light_irradiance.size() != b.light_irradiance.size())
-        throwLookError(name, "light_irradiance", "keyframes must have the same number of lights");
-    const std::vector<Rgb> emissivity_a = resolveBinEmissivity(a, bins);
-    const std::vector<Rgb> emissivity_b = resolveBinEmissivity(b, bins);
-
-    t = std::clamp(t, 0.0, 1.0);
-    // (1 - t) x + t y rather than x + t (y - x): never below min(x, y), so non-negative stays so.
-    const auto lerp = [t](double x, double y) { return (1.0 - t) * x + t * y; };
-    const auto lerp_rgb = [t](const Rgb& x, const Rgb& y) {
-        return static_cast<float>(1.0 - t) * x + static_cast<float>(t) * y;
-    };
-
-    Look result;
-    result.source_name = name;
-    result.temperature_threshold = lerp(a.temperature_threshold, b.temperature_threshold);
-    result.smoke_extinction = lerp(a.smoke_extinction, b.smoke_extinction);
-    result.flame_extinction = lerp(a.flame_extinction, b.flame_extinction);
-    result.albedo = a.albedo;
-    EmissionBins blended;
-    for (size_t i = 0; i < emissivity_a.size(); ++i)
-        blended.emissivity.push_back(lerp_rgb(emissivity_a[i], emissivity_b[i]));
-    result.emission = std::move(blended);
-    for (size_t l = 0; l < a.light_irradiance.size(); ++l)
-        result.light_irradiance.push_back(lerp_rgb(a.light_irradiance[l], b.light_irradiance[l]));
-    return result;
-}
-
 }  // namespace firelook

@@ -20,10 +20,12 @@
 
 namespace firelook {
 
-// Any problem with a look; the message names the file (or look) and the key. Code ErrorCode::Look.
+// Any problem with a look; the message names the file (or look) and the key. Code ErrorCode::Look, or
+// ErrorCode::IoError for a look file that cannot be read (loadLook).
 class LookError : public Error {
   public:
     explicit LookError(const std::string& message) : Error(ErrorCode::Look, message) {}
+    LookError(ErrorCode code, const std::string& message) : Error(code, message) {}
 };
 
 // {"bins": [[r,g,b], ...]}: one emissivity per temperature bin.
@@ -76,6 +78,7 @@ void validateLook(const Look& look);
 // error. Every key shown in docs/model.md, "The look file", is required except the preset's
 // "scale" (default 1); unknown keys are ignored.
 Look parseLook(std::string_view json, const std::string& source_name);
+// parseLook of a file; a file that cannot be opened or read throws a LookError coded ErrorCode::IoError.
 Look loadLook(const std::filesystem::path& path);
 
 // Writes the look file; parseLook(lookToJson(l)) gives l back exactly.
@@ -92,10 +95,5 @@ std::vector<Rgb> resolveBinEmissivity(const Look& look, const TemperatureBins& b
 // counts must match).
 LookModel makeLookModel(const Look& look, const TemperatureBins& bins, double rbf_width,
                         std::span<const glm::dvec3> light_directions);
-
-// Keyframe blend, t in [0, 1]: linear in T_c, k_s, k_f, each light's irradiance
-// and each bin's resolved emissivity (so the result's emission is "bins").
-// The albedo and the number of lights must be equal in both.
-Look interpolateLooks(const Look& a, const Look& b, double t, const TemperatureBins& bins);
 
 }  // namespace firelook

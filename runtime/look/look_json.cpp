@@ -167,10 +167,11 @@ Look parseLook(std::string_view text, const std::string& source_name) {
 
 Look loadLook(const std::filesystem::path& path) {
     std::ifstream file(path, std::ios::binary);
-    if (!file) throwLookError(path.string(), "", "cannot open the look file (missing or unreadable)");
+    // Coded as I/O, not as a bad look, so the C API can tell a missing file from bad JSON.
+    if (!file) throw LookError(ErrorCode::IoError, path.string() + ": cannot open the look file (missing or unreadable)");
     std::ostringstream contents;
     contents << file.rdbuf();
-    if (file.bad()) throwLookError(path.string(), "", "error while reading the look file");
+    if (file.bad()) throw LookError(ErrorCode::IoError, path.string() + ": error while reading the look file");
     return parseLook(contents.str(), path.string());
 }
 

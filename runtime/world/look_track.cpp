@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "look/emission_fit.h"
+#include "look/look_blend.h"
 
 namespace firelook::world {
 
@@ -42,38 +43,21 @@ void sampleKeyframes(std::span<const Keyframe> keys, double frame, ExtinctionPar
     }
     const ResolvedLook& a = keys[bracket.lo].look;
     const ResolvedLook& b = keys[bracket.hi].look;
-    const double t = bracket.t;
-    const auto lerp = [t](double x, double y) { return (1.0 - t) * x + t * y; };
-    const float s = static_cast<float>(1.0 - t), u = static_cast<float>(t);
-    extinction_out.temperature_threshold = lerp(a.extinction.temperature_threshold, b.extinction.temperature_threshold);
-    extinction_out.smoke_extinction = lerp(a.extinction.smoke_extinction, b.extinction.smoke_extinction);
-    extinction_out.flame_extinction = lerp(a.extinction.flame_extinction, b.extinction.flame_extinction);
-    for (size_t i = 0; i < a.rbf.size(); ++i) rbf_out[i] = s * a.rbf[i] + u * b.rbf[i];
-    for (size_t l = 0; l < a.lights.size(); ++l) lights_out[l] = s * a.lights[l] + u * b.lights[l];
+    blendFittedLooks({a.extinction, a.rbf, a.lights}, {b.extinction, b.rbf, b.lights}, bracket.t, extinction_out,
+                     rbf_out, lights_out);
 }
 
 Look sampledLook(std::span<const Keyframe> keys, double frame, const basis::BakeDescription& d) {
     const KeyframeBracket bracket = bracketKeyframes(keys, frame);
     if (bracket.lo == bracket.hi) return keys[bracket.lo].look.source;
-    // The very numbers the world uses (sampleKeyframes), then the emission they make at the centres.
+    // The very numbers the world uses (sampleKeyframes), then the look they stand for (look_blend.h).
     ExtinctionParams extinction;
-    EmissionFunction emission;
-    emission.basis.bins = d.bins;
-    emission.basis.width_in_bins = d.rbf_width;
-    emission.coefficients.resize(static_cast<size_t>(d.bins.count));
+    std::vector<Rgb> rbf(static_cast<size_t>(d.bins.count));
     std::vector<Rgb> lights(keys[bracket.lo].look.lights.size());
-    sampleKeyframes(keys, frame, extinction, emission.coefficients.data(), lights.data());
-    Look look;
-    look.temperature_threshold = extinction.temperature_threshold;
-    look.smoke_extinction = extinction.smoke_extinction;
-    look.flame_extinction = extinction.flame_extinction;
-    look.albedo = keys[bracket.lo].look.source.albedo;  // equal in every key (resolveLook)
-    EmissionBins bins;
-    for (int j = 0; j < d.bins.count; ++j) bins.emissivity.push_back(emission.evaluate(d.bins.center(j)));
-    look.emission = std::move(bins);
-    look.light_irradiance = std::move(lights);
-    look.source_name = "the look interpolated at frame " + std::to_string(frame);
-    return look;
+    sampleKeyframes(keys, frame, extinction, rbf.data(), lights.data());
+    return lookOfFittedEmission(extinction, keys[bracket.lo].look.source.albedo,  // equal in every key (resolveLook)
+                                EmissionBasis{d.bins, d.rbf_width}, rbf, lights,
+                                "the look interpolated at frame " + std::to_string(frame));
 }
 
 }  // namespace firelook::world

@@ -6,7 +6,6 @@
 
 #include "fire_session.h"
 #include "fl_check.h"
-#include "image/fit_target.h"
 
 namespace firelook::viewer {
 namespace {
@@ -57,25 +56,26 @@ std::vector<float> renderLookImage(fl_package package, const fl_package_info& in
 
 void FitSession::start(fl_package package, const fl_package_info& info, const FitRequest& request) {
     cancel();
-    image::FitTargetRequest read;
-    read.target = request.target;
-    if (request.mask_kind == MaskKind::File) read.mask = request.mask;
-    read.width = info.width;
-    read.height = info.height;
+    // The target as `firelook fit` reads it, by the library (fl_fit_target_load; errors name the file).
+    fl_fit_target_desc read = fl_fit_target_desc_defaults();
     read.frame = request.frame;
-    if (request.background) read.background = *request.background;
-    read.exposure = request.exposure;
-    image::FitTargetImage target;
-    try {
-        target = image::readFitTarget(read);
-    } catch (const std::exception& e) {
-        throw ViewerError(e.what());  // names the file
+    read.target_path = request.target.c_str();
+    if (request.mask_kind == MaskKind::File) read.mask_path = request.mask.c_str();
+    if (request.background) {
+        read.flags = FL_FIT_OVER_BACKGROUND;
+        for (int c = 0; c < 3; ++c) read.background[c] = (*request.background)[c];
     }
-    if (request.mask_kind == MaskKind::Threshold) applyThreshold(request, target.rgba, target.weight);
+    read.exposure = request.exposure;
+    const size_t pixels = static_cast<size_t>(info.width) * info.height;
+    std::vector<float> rgba(4 * pixels), weight(pixels);
+    fl_fit_target_info target = fl_fit_target_info_defaults();
+    check(fl_fit_target_load(package, &read, rgba.data(), weight.data(), pixels, nullptr, &target),
+          "fl_fit_target_load");
+    if (request.mask_kind == MaskKind::Threshold) applyThreshold(request, rgba, weight);
 
     fl_fit_desc desc = fl_fit_desc_defaults();
     desc.frame = request.frame;
-    desc.flags = target.match_alpha ? 0u : static_cast<uint32_t>(FL_FIT_OVER_BACKGROUND);
+    desc.flags = target.flags;
     for (int c = 0; c < 3; ++c) desc.background[c] = target.background[c];
     desc.smoothness = request.smoothness;
     desc.progress = &FitSession::progress;
@@ -85,11 +85,10 @@ void FitSession::start(fl_package package, const fl_package_info& info, const Fi
     running.status = FitStatus::Running;
     running.width = info.width;
     running.height = info.height;
-    running.clipped_pixels = target.clipped_pixels;
+    running.clipped_pixels = static_cast<size_t>(target.clipped_pixels);
     publish(running);
     cancel_ = false;
-    thread_ = std::thread(&FitSession::run, this, package, info, desc, std::move(target.rgba),
-                          std::move(target.weight), target.match_alpha, target.background);
+    thread_ = std::thread(&FitSession::run, this, package, info, desc, std::move(rgba), std::move(weight));
 }
 
 void FitSession::cancel() {
@@ -132,7 +131,7 @@ int32_t FitSession::progress(double fraction, void* user) {
 }
 
 void FitSession::run(fl_package package, fl_package_info info, fl_fit_desc desc, std::vector<float> target,
-                     std::vector<float> weights, bool match_alpha, Rgb3 background) {
+                     std::vector<float> weights) {
     FitSnapshot done;
     done.width = info.width;
     done.height = info.height;
@@ -156,7 +155,10 @@ void FitSession::run(fl_package package, fl_package_info info, fl_fit_desc desc,
         done.look_json = lookToJsonText(look);
         fl_look_release(look);
         look = fl_look{};
-        done.difference_rgba = image::fitDifference(target, match_alpha, background, done.fit_rgba);
+        done.difference_rgba.resize(done.fit_rgba.size());
+        check(fl_fit_difference(target.data(), done.fit_rgba.data(), done.fit_rgba.size() / 4,
+                                desc.flags & FL_FIT_OVER_BACKGROUND, desc.background, done.difference_rgba.data()),
+              "fl_fit_difference");
         done.target_rgba = std::move(target);
         done.status = FitStatus::Done;
         done.fraction = 1.0;

@@ -1,5 +1,5 @@
 // "Match target" (issue 17): the logic behind the viewer's panel, without any GUI. Reads a target
-// image and optional mask (image/fit_target.h, the reader `firelook fit` uses), runs
+// image and optional mask (fl_fit_target_load: the reader `firelook fit` uses), runs
 // fl_package_fit_look on a worker thread with progress and cancel, renders the fitted look's image
 // through its own world and hands target / fit / difference to the panel; accept() puts the fitted
 // look into the viewer's edited look.
@@ -73,7 +73,7 @@ class FitSession {
 
   private:
     void run(fl_package package, fl_package_info info, fl_fit_desc desc, std::vector<float> target,
-             std::vector<float> weights, bool match_alpha, Rgb3 background);
+             std::vector<float> weights);
     void publish(const FitSnapshot& snapshot);
     static int32_t progress(double fraction, void* user);
 

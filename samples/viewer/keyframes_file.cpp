@@ -31,7 +31,7 @@ std::string keyframesToJson(const std::vector<Keyframe>& keys) {
     root["version"] = 1;
     Json list = Json::array();
     for (const Keyframe& k : keys)
-        list.push_back(Json{{"frame", k.frame}, {"look", Json::parse(lookEditToJson(k.look))}});
+        list.push_back(Json{{"frame", k.frame}, {"look", Json::parse(canonicalLookJson(k.look))}});
     root["keys"] = list;
     return root.dump(2) + "\n";
 }

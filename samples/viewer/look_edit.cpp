@@ -1,20 +1,11 @@
 #include "look_edit.h"
 
 #include <algorithm>
-#include <nlohmann/json.hpp>
 
 #include "fl_check.h"
 
 namespace firelook::viewer {
 namespace {
-
-using Json = nlohmann::ordered_json;
-
-Json rgbJson(const Rgb3& c) { return Json::array({c[0], c[1], c[2]}); }
-
-Rgb3 rgbFrom(const Json& j) {
-    return {j.at(0).get<float>(), j.at(1).get<float>(), j.at(2).get<float>()};
-}
 
 // Releases an fl_look at scope exit.
 struct LookHolder {
@@ -23,6 +14,8 @@ struct LookHolder {
         if (look.id) fl_look_release(look);
     }
 };
+
+Rgb3 rgbAt(const float* values, size_t i) { return {values[3 * i], values[3 * i + 1], values[3 * i + 2]}; }
 
 }  // namespace
 
@@ -36,50 +29,89 @@ std::string lookToJsonText(fl_look look) {
 }
 
 const std::vector<std::string>& presetNames() {
-    static const std::vector<std::string> names = {"fire", "blackbody"};
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> list;
+        uint32_t count = 0;
+        check(fl_emission_preset_count(&count), "fl_emission_preset_count");
+        for (uint32_t i = 0; i < count; ++i) {
+            size_t size = 0;
+            check(fl_emission_preset_name(i, nullptr, 0, &size), "fl_emission_preset_name");
+            std::string name(size, '\0');
+            check(fl_emission_preset_name(i, name.data(), name.size(), &size), "fl_emission_preset_name");
+            name.resize(size > 0 ? size - 1 : 0);
+            list.push_back(name);
+        }
+        return list;
+    }();
     return names;
 }
 
-std::string lookEditToJson(const LookEdit& look) {
-    Json j;
-    j["format"] = "firelook-look";
-    j["version"] = 1;
-    j["temperature_threshold"] = look.temperature_threshold;
-    j["smoke_extinction"] = look.smoke_extinction;
-    j["flame_extinction"] = look.flame_extinction;
-    j["albedo"] = look.albedo;
-    Json emission = Json::object();
+fl_look makeFlLook(const LookEdit& look, const std::string& source) {
+    fl_look_desc desc = fl_look_desc_defaults();
+    desc.temperature_threshold = look.temperature_threshold;
+    desc.smoke_extinction = look.smoke_extinction;
+    desc.flame_extinction = look.flame_extinction;
+    desc.albedo = look.albedo;
+    std::vector<double> stops;
+    std::vector<float> bins, lights;
     switch (look.mode) {
         case EmissionMode::Preset:
-            emission["preset"] = look.preset;
-            emission["scale"] = look.preset_scale;
+            desc.emission_form = FL_EMISSION_PRESET;
+            // A name too long for the field stays unterminated: the library refuses it.
+            std::copy_n(look.preset.begin(), std::min(look.preset.size(), sizeof desc.preset), desc.preset);
+            desc.preset_scale = look.preset_scale;
             break;
-        case EmissionMode::Stops: {
-            Json stops = Json::array();
+        case EmissionMode::Stops:
+            desc.emission_form = FL_EMISSION_STOPS;
             for (const EmissionStop& s : look.stops)
-                stops.push_back(Json::array({s.temperature, s.emissivity[0], s.emissivity[1], s.emissivity[2]}));
-            emission["stops"] = stops;
+                stops.insert(stops.end(), {s.temperature, s.emissivity[0], s.emissivity[1], s.emissivity[2]});
+            desc.stops = stops.data();
+            desc.stop_count = static_cast<uint32_t>(look.stops.size());
             break;
-        }
-        case EmissionMode::Bins: {
-            Json bins = Json::array();
-            for (const Rgb3& b : look.bins) bins.push_back(rgbJson(b));
-            emission["bins"] = bins;
+        case EmissionMode::Bins:
+            desc.emission_form = FL_EMISSION_BINS;
+            for (const Rgb3& b : look.bins) bins.insert(bins.end(), b.begin(), b.end());
+            desc.bins = bins.data();
+            desc.bin_count = static_cast<uint32_t>(look.bins.size());
             break;
-        }
     }
-    j["emission"] = emission;
-    Json lights = Json::array();
-    for (const Rgb3& l : look.lights) lights.push_back(rgbJson(l));
-    j["light_irradiance"] = lights;
-    return j.dump(2);
+    for (const Rgb3& l : look.lights) lights.insert(lights.end(), l.begin(), l.end());
+    desc.lights = lights.data();
+    desc.light_count = static_cast<uint32_t>(look.lights.size());
+    fl_look handle{};
+    check(fl_look_create(&desc, source.c_str(), &handle), "fl_look_create");
+    return handle;
 }
 
-fl_look makeFlLook(const LookEdit& look, const std::string& source) {
-    const std::string json = lookEditToJson(look);
-    fl_look handle{};
-    check(fl_look_from_json(json.c_str(), json.size(), source.c_str(), &handle), "fl_look_from_json");
-    return handle;
+LookEdit lookEditOf(fl_look handle) {
+    fl_look_desc desc = fl_look_desc_defaults();
+    check(fl_look_get_desc(handle, &desc, nullptr, 0, nullptr, 0, nullptr, 0), "fl_look_get_desc");
+    std::vector<double> stops(4 * size_t{desc.stop_count});
+    std::vector<float> bins(3 * size_t{desc.bin_count}), lights(3 * size_t{desc.light_count});
+    check(fl_look_get_desc(handle, &desc, stops.data(), desc.stop_count, bins.data(), desc.bin_count, lights.data(),
+                           desc.light_count),
+          "fl_look_get_desc");
+    LookEdit look;
+    look.temperature_threshold = desc.temperature_threshold;
+    look.smoke_extinction = desc.smoke_extinction;
+    look.flame_extinction = desc.flame_extinction;
+    look.albedo = desc.albedo;
+    if (desc.emission_form == FL_EMISSION_PRESET) {
+        look.mode = EmissionMode::Preset;
+        look.preset = desc.preset;  // NUL-terminated by the library
+        look.preset_scale = desc.preset_scale;
+    } else if (desc.emission_form == FL_EMISSION_STOPS) {
+        look.mode = EmissionMode::Stops;
+        for (size_t i = 0; i < desc.stop_count; ++i)
+            look.stops.push_back({stops[4 * i],
+                                  {static_cast<float>(stops[4 * i + 1]), static_cast<float>(stops[4 * i + 2]),
+                                   static_cast<float>(stops[4 * i + 3])}});
+    } else {
+        look.mode = EmissionMode::Bins;
+        for (size_t i = 0; i < desc.bin_count; ++i) look.bins.push_back(rgbAt(bins.data(), i));
+    }
+    for (size_t i = 0; i < desc.light_count; ++i) look.lights.push_back(rgbAt(lights.data(), i));
+    return look;
 }
 
 std::string canonicalLookJson(const LookEdit& look) {
@@ -91,28 +123,13 @@ std::string canonicalLookJson(const LookEdit& look) {
 LookEdit parseLookEdit(const std::string& json, const std::string& source) {
     LookHolder holder;
     check(fl_look_from_json(json.c_str(), json.size(), source.c_str(), &holder.look), "fl_look_from_json");
-    // The library's own JSON has every key in one canonical form, so reading it cannot miss a case.
-    const Json j = Json::parse(lookToJsonText(holder.look));
-    LookEdit look;
-    look.temperature_threshold = j.at("temperature_threshold").get<double>();
-    look.smoke_extinction = j.at("smoke_extinction").get<double>();
-    look.flame_extinction = j.at("flame_extinction").get<double>();
-    look.albedo = j.at("albedo").get<double>();
-    const Json& e = j.at("emission");
-    if (e.contains("preset")) {
-        look.mode = EmissionMode::Preset;
-        look.preset = e.at("preset").get<std::string>();
-        look.preset_scale = e.value("scale", 1.0);
-    } else if (e.contains("stops")) {
-        look.mode = EmissionMode::Stops;
-        for (const Json& s : e.at("stops"))
-            look.stops.push_back({s.at(0).get<double>(), {s.at(1).get<float>(), s.at(2).get<float>(), s.at(3).get<float>()}});
-    } else {
-        look.mode = EmissionMode::Bins;
-        for (const Json& b : e.at("bins")) look.bins.push_back(rgbFrom(b));
-    }
-    for (const Json& l : j.at("light_irradiance")) look.lights.push_back(rgbFrom(l));
-    return look;
+    return lookEditOf(holder.look);
+}
+
+LookEdit loadLookEdit(const std::string& path) {
+    LookHolder holder;
+    check(fl_look_load_file(path.c_str(), &holder.look), "fl_look_load_file");
+    return lookEditOf(holder.look);
 }
 
 ColourIntensity splitEmissivity(const Rgb3& e) {

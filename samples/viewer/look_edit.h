@@ -1,6 +1,6 @@
-// The look as the viewer edits it: the fields of a firelook-look document (docs/model.md, "The look file") in
-// plain editable form. The C API has no look accessors, only JSON in and out, so the viewer keeps
-// this struct and turns it into JSON (then an fl_look) whenever it changes.
+// The look as the viewer edits it: an fl_look_desc (firelook.h) in editable C++ form. Looks come in
+// and go out through the C API only (fl_look_create / fl_look_get_desc, fl_look_from_json,
+// fl_look_load_file, fl_look_to_json), so the viewer holds no copy of the look file's schema.
 #pragma once
 
 #include <array>
@@ -36,25 +36,27 @@ struct LookEdit {
     bool operator==(const LookEdit&) const = default;
 };
 
-// The emission presets the look format knows (runtime/look/emission_presets.cpp). The C API does
-// not list them, so they are named here; fl_look_from_json still validates the choice.
+// The emission presets the library knows (fl_emission_preset_count / fl_emission_preset_name).
 const std::vector<std::string>& presetNames();
 
-// JSON text of a look document. Numbers are written with full precision, so the look round-trips
-// exactly (a float emissivity survives double formatting and parsing unchanged).
-std::string lookEditToJson(const LookEdit& look);
+// The values of an fl_look (fl_look_get_desc). Throws ViewerError.
+LookEdit lookEditOf(fl_look look);
 
-// Validates `json` with the library (fl_look_from_json; errors name `source`), then reads the
-// library's canonical JSON of it into a LookEdit. Throws ViewerError.
+// Validates `json` with the library (fl_look_from_json; errors name `source`) and reads its values.
+// Throws ViewerError.
 LookEdit parseLookEdit(const std::string& json, const std::string& source);
 
-// An fl_look for `look` (caller releases). Throws ViewerError with the library's message.
+// A look file read by the library (fl_look_load_file; errors name the path). Throws ViewerError.
+LookEdit loadLookEdit(const std::string& path);
+
+// An fl_look for `look` (fl_look_create; caller releases). Throws ViewerError with the library's
+// message, which names `source` and the key.
 fl_look makeFlLook(const LookEdit& look, const std::string& source);
 
 // fl_look_to_json's text of an fl_look. Throws ViewerError.
 std::string lookToJsonText(fl_look look);
 
-// The canonical look-file text the CLI reads and writes (fl_look_to_json of the look).
+// The look-file text the CLI reads and writes (fl_look_to_json of the look). Throws ViewerError.
 std::string canonicalLookJson(const LookEdit& look);
 
 // Colour + intensity view of an emissivity: intensity = the largest channel, colour = e / intensity.

@@ -32,7 +32,7 @@ void logToStderr(int32_t level, const char* message, void*) {
 // --look, --keyframes, --light-angles, --frame and --play; errors are fatal (the command line asked for them).
 void applyStartOptions(ViewerApp& app, const Options& o) {
     FireSession& s = *app.session();
-    if (!o.look.empty()) s.setLook(parseLookEdit(readTextFile(o.look), o.look));
+    if (!o.look.empty()) s.setLook(loadLookEdit(o.look));
     if (!o.keyframes.empty()) {
         s.keys() = loadKeyframes(o.keyframes);
         s.setAnimateKeys(true);

@@ -64,13 +64,7 @@ void ViewerApp::loadPresets(const std::string& folder) {
     for (const auto& entry : std::filesystem::directory_iterator(folder, error))
         if (entry.path().extension() == ".json") files.push_back(entry.path());
     std::sort(files.begin(), files.end());
-    for (const auto& file : files) {
-        try {
-            presets_.push_back({file.stem().string(), readTextFile(file)});
-        } catch (const std::exception&) {
-            // An unreadable preset is simply not offered.
-        }
-    }
+    for (const auto& file : files) presets_.push_back({file.stem().string(), file.string()});
 }
 
 bool ViewerApp::openPackage(const std::string& path_text) {
@@ -211,7 +205,7 @@ bool ViewerApp::editLightDirection(const LightDirection& light) {
 bool ViewerApp::applyPreset(const LookPreset& preset) {
     if (!session_) return false;
     try {
-        const LookEdit look = fitToPackage(parseLookEdit(preset.json, preset.name), session_->info());
+        const LookEdit look = fitToPackage(loadLookEdit(preset.path), session_->info());
         session_->setLook(look);
         setStatus("look: " + preset.name, false);
         return true;
@@ -224,7 +218,7 @@ bool ViewerApp::applyPreset(const LookPreset& preset) {
 bool ViewerApp::loadLookFile(const std::string& file) {
     if (!session_) return false;
     try {
-        session_->setLook(parseLookEdit(readTextFile(file), file));
+        session_->setLook(loadLookEdit(file));
         setStatus("loaded " + file, false);
         return true;
     } catch (const std::exception& e) {
@@ -368,7 +362,7 @@ void ViewerApp::startQa() {
         request.frame = state.frame;
         // The look shown at this frame: the edited one, or the library's interpolation while keys play.
         request.look_json = session_->animateKeys() && !session_->keys().empty() ? session_->shownLookJson()
-                                                                                 : lookEditToJson(session_->look());
+                                                                                 : canonicalLookJson(session_->look());
         readResult(qa_realtime_);  // the real-time image it will be compared with
         qa_frame_ = state.frame;
         qa_look_json_ = request.look_json;
@@ -390,7 +384,7 @@ bool ViewerApp::qaStale() const {
     if (!qa_started_ || !session_) return false;
     const std::string now = session_->animateKeys() && !session_->keys().empty()
                                 ? qa_look_json_  // keyed: judged by the frame only
-                                : lookEditToJson(session_->look());
+                                : canonicalLookJson(session_->look());
     return session_->state().frame != qa_frame_ || now != qa_look_json_;
 }
 

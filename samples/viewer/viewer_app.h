@@ -23,7 +23,7 @@ namespace firelook::viewer {
 
 struct LookPreset {
     std::string name;
-    std::string json;
+    std::string path;  // a look file, read by the library when chosen (fl_look_load_file)
 };
 
 struct StatusMessage {

@@ -338,37 +338,5 @@ TEST(MakeLookModel, WorksForOneAndSixtyFourBins) {
     }
 }
 
-TEST(InterpolateLooks, IsLinearPerParameterAndPerBin) {
-    const TemperatureBins bins{0.0, 3.0, 8};
-    Look a = defaultLook();
-    Look b = defaultLook();
-    b.temperature_threshold = 2.0;
-    b.smoke_extinction = 2.0;
-    b.flame_extinction = 0.5;
-    b.emission = EmissionPreset{"blackbody", 10.0};
-    b.light_irradiance = {Rgb(0.0f)};
-
-    const Look start = interpolateLooks(a, b, 0.0, bins);
-    EXPECT_EQ(resolveBinEmissivity(start, bins), resolveBinEmissivity(a, bins));
-    const Look mid = interpolateLooks(a, b, 0.5, bins);
-    EXPECT_DOUBLE_EQ(mid.temperature_threshold, 1.7);
-    EXPECT_DOUBLE_EQ(mid.smoke_extinction, 4.0);
-    EXPECT_DOUBLE_EQ(mid.flame_extinction, 1.0);
-    EXPECT_EQ(mid.albedo, a.albedo);
-    const std::vector<Rgb> ea = resolveBinEmissivity(a, bins);
-    const std::vector<Rgb> eb = resolveBinEmissivity(b, bins);
-    const std::vector<Rgb> em = resolveBinEmissivity(mid, bins);
-    for (int i = 0; i < bins.count; ++i)
-        for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(em[i][c], 0.5f * (ea[i][c] + eb[i][c]));
-    EXPECT_EQ(mid.light_irradiance[0], 0.5f * a.light_irradiance[0]);
-    // t is clamped to [0, 1].
-    EXPECT_EQ(interpolateLooks(a, b, 7.0, bins).smoke_extinction, 2.0);
-
-    b.albedo = 0.5;
-    EXPECT_THROW(interpolateLooks(a, b, 0.5, bins), LookError);
-    b.albedo = a.albedo;
-    EXPECT_THROW(interpolateLooks(a, b, std::nan(""), bins), LookError);
-}
-
 }  // namespace
 }  // namespace firelook

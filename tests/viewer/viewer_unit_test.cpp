@@ -3,6 +3,7 @@
 // export file names, the QA error measures and the "Match target" fit session. No display needed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -54,8 +55,9 @@ TEST_F(ViewerUnit, LookFilesRoundTripExactly) {
     for (const char* name : {"fireball.json", "inferno.json", "smoky.json"}) {
         const std::string file = looksDir() + "/" + name;
         const LookEdit look = parseLookEdit(readTextFile(file), file);
-        // Edit -> JSON -> library -> canonical JSON is the library's own JSON of the file.
-        EXPECT_EQ(parseLookEdit(lookEditToJson(look), "again"), look) << name;
+        // Edit -> library -> JSON -> library is the same look, and the library's own JSON of the file.
+        EXPECT_EQ(parseLookEdit(canonicalLookJson(look), "again"), look) << name;
+        EXPECT_EQ(loadLookEdit(file), look) << name;
         fl_look original{};
         const std::string text = readTextFile(file);
         ASSERT_EQ(fl_look_from_json(text.c_str(), 0, name, &original), FL_OK);
@@ -66,6 +68,30 @@ TEST_F(ViewerUnit, LookFilesRoundTripExactly) {
         canonical.resize(size - 1);
         fl_look_release(original);
         EXPECT_EQ(canonicalLookJson(look), canonical) << name;
+    }
+}
+
+// Look files, the emission presets and bad files all come from the library (fl_look_load_file,
+// fl_emission_preset_name, fl_look_create), not from a copy of the schema in the viewer.
+TEST_F(ViewerUnit, LooksAndPresetsComeFromTheLibrary) {
+    std::vector<std::string> names = presetNames();
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(names, (std::vector<std::string>{"blackbody", "fire"}));
+    const std::string missing = looksDir() + "/no_such_look.json";
+    try {
+        loadLookEdit(missing);
+        FAIL() << "loaded a missing file";
+    } catch (const ViewerError& e) {
+        EXPECT_NE(std::string(e.what()).find(missing), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("FL_ERROR_IO"), std::string::npos) << e.what();
+    }
+    LookEdit bad = loadLookEdit(looksDir() + "/fireball.json");
+    bad.smoke_extinction = -1.0;
+    try {
+        canonicalLookJson(bad);
+        FAIL() << "accepted a negative extinction";
+    } catch (const ViewerError& e) {
+        EXPECT_NE(std::string(e.what()).find("smoke_extinction"), std::string::npos) << e.what();
     }
 }
 

@@ -19,6 +19,7 @@
 #include "basis/parameter_grid.h"
 #include "basis/coefficients.h"
 #include "basis/recombine.h"
+#include "look/look_blend.h"
 #include "synthetic_package.h"
 #include "world/world.h"
 
@@ -126,7 +127,7 @@ int main(int argc, char** argv) {
                     "median %.2f us per update (CPU time %.2f us)\n", points, s / inner * 1e6, g_cpu / inner * 1e6);
 
         // For comparison: the kernel alone, basis::computeCoefficients (its checks + the kernel), and
-        // the uncached path (interpolateLooks + makeLookModel, i.e. the NNLS fit per update +
+        // the uncached path (interpolateLooks + makeLookModel, i.e. the keys' and the blend's fits per update +
         // computeCoefficients).
         const LookModel model = makeLookModel(a, d.bins, d.rbf_width, d.light_directions);
         std::vector<float> z(static_cast<size_t>(factors.rank) * 3);
@@ -144,7 +145,7 @@ int main(int argc, char** argv) {
         const int slow_inner = 200;
         const double s_uncached = medianSeconds(reps, [&] {
             for (int i = 0; i < slow_inner; ++i) {
-                const Look l = interpolateLooks(a, b, 0.37 / 0.9, d.bins);
+                const Look l = interpolateLooks(a, b, 0.37 / 0.9, d.bins, d.rbf_width);
                 const LookModel m = makeLookModel(l, d.bins, d.rbf_width, d.light_directions);
                 basis::computeCoefficients(d, factors, {l.extinction(), m.emission.coefficients, l.light_irradiance}, z);
             }

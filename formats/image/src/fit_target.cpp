@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "common/error.h"
+
 #include "image/image_io.h"
 #include "image/srgb.h"
 
@@ -21,6 +23,18 @@ double srgbSlope(double v) {
 
 std::string sizeText(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
 
+// Coded (common/error.h) so that the C API tells a file it cannot read from a target that does not fit.
+[[noreturn]] void throwUnreadable(const std::string& message) { throw Error(ErrorCode::IoError, message); }
+[[noreturn]] void throwUnfit(const std::string& message) { throw Error(ErrorCode::InvalidArgument, message); }
+
+ImageRGBA readCoded(const std::string& path) {
+    try {
+        return readImage(path);
+    } catch (const ImageError& e) {
+        throwUnreadable(e.what());  // names the file
+    }
+}
+
 }  // namespace
 
 bool isPngPath(const std::string& path) {
@@ -32,23 +46,23 @@ bool isPngPath(const std::string& path) {
 FitTargetImage readFitTarget(const FitTargetRequest& request) {
     const std::string& path = request.target;
     const std::string frame = std::to_string(request.frame);
-    if (!std::filesystem::exists(path)) throw std::runtime_error(path + ": no such target image (frame " + frame + ")");
-    const ImageRGBA img = readImage(path);
+    if (!std::filesystem::exists(path)) throwUnreadable(path + ": no such target image (frame " + frame + ")");
+    const ImageRGBA img = readCoded(path);
     if (img.width != request.width || img.height != request.height)
-        throw std::runtime_error(path + ": " + sizeText(img.width, img.height) + ", but the package's images are " +
-                                 sizeText(request.width, request.height));
+        throwUnfit(path + ": " + sizeText(img.width, img.height) + ", but the package's images are " +
+                   sizeText(request.width, request.height));
     const size_t pixels = static_cast<size_t>(request.width) * static_cast<size_t>(request.height);
     FitTargetImage target;
     target.rgba = img.pixels;
     for (float v : target.rgba)
-        if (!std::isfinite(v)) throw std::runtime_error(path + ": holds a value that is not finite");
+        if (!std::isfinite(v)) throwUnfit(path + ": holds a value that is not finite");
     target.weight.assign(pixels, 1.0f);
     if (!request.mask.empty()) {
-        if (!std::filesystem::exists(request.mask)) throw std::runtime_error(request.mask + ": no such mask image");
-        const ImageRGBA mask = readImage(request.mask);
+        if (!std::filesystem::exists(request.mask)) throwUnreadable(request.mask + ": no such mask image");
+        const ImageRGBA mask = readCoded(request.mask);
         if (mask.width != request.width || mask.height != request.height)
-            throw std::runtime_error(request.mask + ": mask is " + sizeText(mask.width, mask.height) +
-                                     ", but the package's images are " + sizeText(request.width, request.height));
+            throwUnfit(request.mask + ": mask is " + sizeText(mask.width, mask.height) +
+                       ", but the package's images are " + sizeText(request.width, request.height));
         for (size_t p = 0; p < pixels; ++p) {
             const float m = mask.pixels[4 * p];
             target.weight[p] = std::isfinite(m) ? std::clamp(m, 0.0f, 1.0f) : 0.0f;
@@ -75,8 +89,8 @@ FitTargetImage readFitTarget(const FitTargetRequest& request) {
         }
     }
     if (std::all_of(target.weight.begin(), target.weight.end(), [](float w) { return w == 0.0f; }))
-        throw std::runtime_error((request.mask.empty() ? path : request.mask) + ": leaves no pixel of frame " + frame +
-                                 " to fit (" + (request.mask.empty() ? "every pixel is clipped" : "the mask is 0 everywhere") +
+        throwUnfit((request.mask.empty() ? path : request.mask) + ": leaves no pixel of frame " + frame +
+                   " to fit (" + (request.mask.empty() ? "every pixel is clipped" : "the mask is 0 everywhere") +
                                  (request.mask.empty() || !png ? "" : " or clipped") + ")");
     const float unexpose = static_cast<float>(std::exp2(-request.exposure));
     for (size_t p = 0; p < pixels; ++p)

@@ -22,9 +22,13 @@
       fl_package_get_info() and friends describe it (frames, size, rank per
       frame, bins, lights, parameter ranges, default look as JSON, the camera
       it was baked with: fl_package_get_camera, fl_package_get_lights).
-   3. Make looks from look-file JSON (fl_look_from_json) or take the
-      package's default (fl_package_default_look); fl_look_get_bin_emissivity
-      resolves a look's emission to the package's bins (for curve editors).
+   3. Make looks from look-file JSON (fl_look_from_json), a look file
+      (fl_look_load_file) or plain values (fl_look_create; fl_look_get_desc
+      reads them back, for editors), or take the package's default
+      (fl_package_default_look); fl_look_get_bin_emissivity resolves a look's
+      emission to the package's bins (for curve editors) and
+      fl_emission_preset_name lists the emission presets. To fit a look to a
+      target image: fl_fit_target_load, fl_package_fit_look, fl_fit_difference.
    4. Create a world (fl_world_create) and instances in it
       (fl_instance_create); give them looks or keyframes, playback and
       outputs.
@@ -323,6 +327,54 @@ FIRELOOK_API fl_result fl_look_to_json(fl_look look, char* buffer, size_t capaci
    number of bins: FL_ERROR_LOOK. */
 FIRELOOK_API fl_result fl_look_get_bin_emissivity(fl_look look, fl_package package, float* rgb, uint32_t capacity,
                                                   uint32_t* out_count);
+/* fl_look_desc.emission_form: which of the look file's emission forms (docs/model.md, "The look file"). */
+enum { FL_EMISSION_PRESET = 0, FL_EMISSION_STOPS = 1, FL_EMISSION_BINS = 2 };
+
+/* A look's values in plain form, for editors: the keys of a look file without its JSON. In
+   fl_look_create the pointers are read for their counts; fl_look_get_desc leaves them null and writes the
+   arrays to buffers of its own arguments. Unlike the other desc structs, 0 is a value here, not a default:
+   fill every field (fl_look_get_desc of an existing look is a good start). First published size: through
+   reserved. */
+typedef struct fl_look_desc {
+    uint32_t struct_size;
+    int32_t emission_form;      /* FL_EMISSION_PRESET, FL_EMISSION_STOPS or FL_EMISSION_BINS */
+    double temperature_threshold, smoke_extinction, flame_extinction, albedo;
+    char preset[32];            /* FL_EMISSION_PRESET: a name of fl_emission_preset_name, NUL-terminated */
+    double preset_scale;        /* FL_EMISSION_PRESET: its scale */
+    const double* stops;        /* FL_EMISSION_STOPS: stop_count x (temperature, r, g, b) */
+    uint32_t stop_count;
+    uint32_t bin_count;         /* FL_EMISSION_BINS: bin_count x (r, g, b) emissivity, one per bin */
+    const float* bins;
+    const float* lights;        /* light_count x (r, g, b) irradiance, one per directional light */
+    uint32_t light_count;
+    uint32_t reserved;
+} fl_look_desc;
+
+/* Thread-safe. A look from its values, checked as fl_look_from_json checks a look file's: a value out of
+   range (a negative extinction or colour, albedo outside [0, 1], stops out of order, an unknown preset,
+   an empty emission): FL_ERROR_LOOK, the message naming source_name (may be null) and the key; an
+   unknown emission_form, a null array with a count above 0 or a preset name not NUL-terminated:
+   FL_ERROR_INVALID_ARGUMENT. fl_look_to_json of the new look is the look file of these values. */
+FIRELOOK_API fl_result fl_look_create(const fl_look_desc* desc, const char* source_name, fl_look* out_look);
+/* Thread-safe. The look's values: *out_desc gets the form, the scalars, the preset and the counts (its
+   pointers null); stops (4 doubles a stop), bins and lights (3 floats each) get the arrays, their
+   capacities counted in stops, bins and lights. A capacity of 0 leaves that array unwritten (so a call
+   with all three 0 asks for the counts); a capacity below the count: FL_ERROR_BUFFER_TOO_SMALL; a null
+   buffer with a capacity above 0, or out_desc null: FL_ERROR_INVALID_ARGUMENT. */
+FIRELOOK_API fl_result fl_look_get_desc(fl_look look, fl_look_desc* out_desc, double* stops, uint32_t stop_capacity,
+                                        float* bins, uint32_t bin_capacity, float* lights, uint32_t light_capacity);
+/* Thread-safe. A look file (docs/model.md, "The look file"; what firelook render --look reads): the look
+   fl_look_from_json makes of its text, with path naming it in messages. A file that cannot be opened or
+   read: FL_ERROR_IO; bad JSON or a bad value: FL_ERROR_LOOK; path or out_look null:
+   FL_ERROR_INVALID_ARGUMENT. */
+FIRELOOK_API fl_result fl_look_load_file(const char* path, fl_look* out_look);
+/* The emission presets a look may name ({"preset": NAME, "scale": S}), so that an editor offers the
+   library's list: *out_count gets how many there are (out_count null: FL_ERROR_INVALID_ARGUMENT).
+   Callable any time. */
+FIRELOOK_API fl_result fl_emission_preset_count(uint32_t* out_count);
+/* The name of preset `index` (0 to count - 1), NUL-terminated, with the size convention of
+   fl_package_get_default_look_json. An index past the last: FL_ERROR_NOT_FOUND. Callable any time. */
+FIRELOOK_API fl_result fl_emission_preset_name(uint32_t index, char* buffer, size_t capacity, size_t* out_size);
 
 /* ---- inverse design: the look that matches a target image ---------------- */
 
@@ -374,6 +426,48 @@ typedef struct fl_fit_report {
    range, unknown flags: FL_ERROR_INVALID_ARGUMENT; no such frame: FL_ERROR_NOT_FOUND. */
 FIRELOOK_API fl_result fl_package_fit_look(fl_package package, const fl_fit_desc* desc, fl_look* out_look,
                                            fl_fit_report* out_report);
+
+/* A target image (and mask) to read for fl_package_fit_look. First published size: through exposure. */
+typedef struct fl_fit_target_desc {
+    uint32_t struct_size;
+    int32_t frame;            /* the frame number the target shows (named in messages) */
+    /* .exr: linear premultiplied RGBA, its alpha matched unless it is opaque; .png: read through the display
+       transform firelook render uses for PNG, each pixel weighted by the sRGB curve's slope at its shown
+       value and clipped pixels left out. Required. */
+    const char* target_path;
+    const char* mask_path;    /* null: no mask; else each pixel's weight is its red channel, clamped to [0, 1] */
+    uint32_t flags;           /* FL_FIT_OVER_BACKGROUND: opaque over `background`, alpha not matched; other bits are refused */
+    float background[3];      /* linear RGB, finite, with FL_FIT_OVER_BACKGROUND */
+    double exposure;          /* stops the target was exposed by (undone on the colour and the background) */
+} fl_fit_target_desc;
+
+/* What fl_fit_target_load read, in fl_fit_desc's terms. First published size: through clipped_pixels. */
+typedef struct fl_fit_target_info {
+    uint32_t struct_size;     /* in: sizeof(fl_fit_target_info); kept */
+    uint32_t flags;           /* FL_FIT_OVER_BACKGROUND where alpha is not matched (an opaque target, or a
+                                 background given): for fl_fit_desc.flags */
+    float background[3];      /* exposure undone: for fl_fit_desc.background */
+    uint32_t reserved;
+    uint64_t clipped_pixels;  /* PNG pixels left out because a channel was clipped */
+} fl_fit_target_info;
+
+/* Thread-safe. Reads a target as firelook fit does (docs/cli.md, "firelook fit"), at the package's image
+   size: rgba gets width x height x 4 floats (linear, premultiplied, top row first, exposure undone:
+   fl_fit_desc.target_rgba), weights width x height floats (fl_fit_desc.weights; at least one above 0).
+   pixel_capacity: pixels each buffer holds; *out_pixel_count (if not null) gets width x height; a capacity
+   of 0 only asks for it (the buffers and out_info may then be null). A missing or unreadable file:
+   FL_ERROR_IO; a file of another size, a value that is not finite, no pixel left to fit (mask 0 everywhere,
+   every pixel clipped), unknown flags, a null desc->target_path or buffer: FL_ERROR_INVALID_ARGUMENT. */
+FIRELOOK_API fl_result fl_fit_target_load(fl_package package, const fl_fit_target_desc* desc, float* rgba,
+                                          float* weights, size_t pixel_capacity, size_t* out_pixel_count,
+                                          fl_fit_target_info* out_info);
+/* |fit - target| per pixel in linear RGB, alpha 1 (what firelook fit --difference writes): with
+   FL_FIT_OVER_BACKGROUND in flags the fit (premultiplied, as rendered) is composited over background
+   first, as the fit compared it. pixel_count pixels of 4 floats in each array; background may be null
+   without that flag. A null array, pixel_count 0 or unknown flags: FL_ERROR_INVALID_ARGUMENT. Callable any
+   time. */
+FIRELOOK_API fl_result fl_fit_difference(const float* target_rgba, const float* fit_rgba, size_t pixel_count,
+                                         uint32_t flags, const float* background, float* out_rgba);
 
 /* ---- worlds and instances ---------------------------------------------- */
 
@@ -472,8 +566,10 @@ FIRELOOK_API fl_result fl_instance_create(fl_world world, const fl_instance_desc
 FIRELOOK_API fl_result fl_instance_destroy(fl_world world, fl_instance instance);
 /* A constant look (replaces any keyframes). */
 FIRELOOK_API fl_result fl_instance_set_look(fl_world world, fl_instance instance, fl_look look);
-/* Keys at package frame numbers (any order; count >= 1); linear in every parameter and each bin's colour
-   between keys, held before the first and after the last. All keys must fit the package (albedo, lights). */
+/* Keys at package frame numbers (any order; count >= 1), held before the first and after the last; between
+   keys T_c, k_s, k_f, each light's irradiance and each key's fitted emission coefficients are blended
+   linearly, the rule firelook animate uses (docs/model.md, "Keyed looks"; where both keys' emission fits
+   are exact that is linear in each bin's colour). All keys must fit the package (albedo, lights). */
 FIRELOOK_API fl_result fl_instance_set_keyframes(fl_world world, fl_instance instance, const fl_keyframe* keys,
                                                  uint32_t count);
 FIRELOOK_API fl_result fl_instance_set_playback(fl_world world, fl_instance instance, const fl_playback_desc* desc);
@@ -654,6 +750,21 @@ FIRELOOK_INLINE fl_fit_desc fl_fit_desc_defaults(void) {
 FIRELOOK_INLINE fl_fit_report fl_fit_report_defaults(void) {
     fl_fit_report d = FIRELOOK_ZERO;
     d.struct_size = (uint32_t)sizeof(fl_fit_report);
+    return d;
+}
+FIRELOOK_INLINE fl_look_desc fl_look_desc_defaults(void) {
+    fl_look_desc d = FIRELOOK_ZERO;
+    d.struct_size = (uint32_t)sizeof(fl_look_desc);
+    return d;
+}
+FIRELOOK_INLINE fl_fit_target_desc fl_fit_target_desc_defaults(void) {
+    fl_fit_target_desc d = FIRELOOK_ZERO;
+    d.struct_size = (uint32_t)sizeof(fl_fit_target_desc);
+    return d;
+}
+FIRELOOK_INLINE fl_fit_target_info fl_fit_target_info_defaults(void) {
+    fl_fit_target_info d = FIRELOOK_ZERO;
+    d.struct_size = (uint32_t)sizeof(fl_fit_target_info);
     return d;
 }
 FIRELOOK_INLINE fl_light_direction_desc fl_light_direction_desc_defaults(void) {
