@@ -35,8 +35,9 @@ struct FitTargetImage {
 
 bool isPngPath(const std::string& path);
 
-// Throws std::runtime_error naming the file: missing, unreadable, another size than width x height,
-// a value that is not finite, or no pixel left to fit (mask 0 everywhere, or every pixel clipped).
+// Throws ImageError naming the file (code IoError for a missing file, else BadImage): missing,
+// unreadable, another size than width x height, a value that is not finite, or no pixel left to fit
+// (mask 0 everywhere, or every pixel clipped).
 FitTargetImage readFitTarget(const FitTargetRequest& request);
 
 // |fit - target| per pixel in linear RGB, opaque (alpha 1): where alpha is not matched the fit is

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "common/error.h"
 #include "image/image_io.h"
 #include "image/srgb.h"
 
@@ -32,23 +33,25 @@ bool isPngPath(const std::string& path) {
 FitTargetImage readFitTarget(const FitTargetRequest& request) {
     const std::string& path = request.target;
     const std::string frame = std::to_string(request.frame);
-    if (!std::filesystem::exists(path)) throw std::runtime_error(path + ": no such target image (frame " + frame + ")");
+    if (!std::filesystem::exists(path))
+        throw ImageError(ErrorCode::IoError, path + ": no such target image (frame " + frame + ")");
     const ImageRGBA img = readImage(path);
     if (img.width != request.width || img.height != request.height)
-        throw std::runtime_error(path + ": " + sizeText(img.width, img.height) + ", but the package's images are " +
-                                 sizeText(request.width, request.height));
+        throw ImageError(path + ": " + sizeText(img.width, img.height) + ", but the package's images are " +
+                         sizeText(request.width, request.height));
     const size_t pixels = static_cast<size_t>(request.width) * static_cast<size_t>(request.height);
     FitTargetImage target;
     target.rgba = img.pixels;
     for (float v : target.rgba)
-        if (!std::isfinite(v)) throw std::runtime_error(path + ": holds a value that is not finite");
+        if (!std::isfinite(v)) throw ImageError(path + ": holds a value that is not finite");
     target.weight.assign(pixels, 1.0f);
     if (!request.mask.empty()) {
-        if (!std::filesystem::exists(request.mask)) throw std::runtime_error(request.mask + ": no such mask image");
+        if (!std::filesystem::exists(request.mask))
+            throw ImageError(ErrorCode::IoError, request.mask + ": no such mask image");
         const ImageRGBA mask = readImage(request.mask);
         if (mask.width != request.width || mask.height != request.height)
-            throw std::runtime_error(request.mask + ": mask is " + sizeText(mask.width, mask.height) +
-                                     ", but the package's images are " + sizeText(request.width, request.height));
+            throw ImageError(request.mask + ": mask is " + sizeText(mask.width, mask.height) +
+                             ", but the package's images are " + sizeText(request.width, request.height));
         for (size_t p = 0; p < pixels; ++p) {
             const float m = mask.pixels[4 * p];
             target.weight[p] = std::isfinite(m) ? std::clamp(m, 0.0f, 1.0f) : 0.0f;
@@ -75,9 +78,10 @@ FitTargetImage readFitTarget(const FitTargetRequest& request) {
         }
     }
     if (std::all_of(target.weight.begin(), target.weight.end(), [](float w) { return w == 0.0f; }))
-        throw std::runtime_error((request.mask.empty() ? path : request.mask) + ": leaves no pixel of frame " + frame +
-                                 " to fit (" + (request.mask.empty() ? "every pixel is clipped" : "the mask is 0 everywhere") +
-                                 (request.mask.empty() || !png ? "" : " or clipped") + ")");
+        throw ImageError((request.mask.empty() ? path : request.mask) + ": leaves no pixel of frame " +
+                         frame + " to fit (" +
+                         (request.mask.empty() ? "every pixel is clipped" : "the mask is 0 everywhere") +
+                         (request.mask.empty() || !png ? "" : " or clipped") + ")");
     const float unexpose = static_cast<float>(std::exp2(-request.exposure));
     for (size_t p = 0; p < pixels; ++p)
         for (int c = 0; c < 3; ++c) target.rgba[4 * p + c] *= unexpose;
@@ -90,7 +94,7 @@ FitTargetImage readFitTarget(const FitTargetRequest& request) {
 std::vector<float> fitDifference(const std::vector<float>& target_rgba, bool match_alpha,
                                  const std::array<float, 3>& background, const std::vector<float>& fit_rgba) {
     if (target_rgba.size() != fit_rgba.size())
-        throw std::invalid_argument("fitDifference: the target and the fit differ in size");
+        throw Error(ErrorCode::InvalidArgument, "fitDifference: the target and the fit differ in size");
     std::vector<float> difference(fit_rgba.size());
     for (size_t p = 0; p < fit_rgba.size() / 4; ++p) {
         const float* i = fit_rgba.data() + 4 * p;
