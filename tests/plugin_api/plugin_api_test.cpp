@@ -984,6 +984,43 @@ TEST_F(PluginApiWorld, ABadPackageIsCorruptAndTheMessageNamesTheFile) {
     EXPECT_EQ(fl_package_release(p), FL_OK);
 }
 
+// One failure from each layer under the plugin reaches the C API by its code through the one table
+// (result_table.h), with the layer's own message: the package reader (not a package), the basis
+// reader (a layout version this build does not read), the look parser (a newer look file) and the
+// world (an argument only the world checks: a lens flare without the image).
+TEST_F(PluginApiWorld, AFailureOfEachLayerReachesTheCApiByItsCode) {
+    fl_package q{};
+    const std::string text = (dir_ / "text.firelook").string();
+    std::ofstream(text) << "this is not a package at all, just some text to read";
+    EXPECT_EQ(fl_package_load(text.c_str(), &q), FL_ERROR_NOT_A_PACKAGE) << fl_last_error();
+    EXPECT_NE(std::string(fl_last_error()).find("text.firelook"), std::string::npos) << fl_last_error();
+
+    const std::string newer = (dir_ / "newer-layout.firelook").string();
+    {
+        firelook::package::ContainerWriter writer(newer, firelook::package::WriterOptions{1});
+        writer.addMetadata(R"({"format": "firelook-basis", "version": 99, "bake": {}})");
+        writer.commit();
+    }
+    EXPECT_EQ(fl_package_load(newer.c_str(), &q), FL_ERROR_UNSUPPORTED) << fl_last_error();
+    EXPECT_NE(std::string(fl_last_error()).find("basis layout version 99"), std::string::npos)
+        << fl_last_error();
+    EXPECT_EQ(q.id, 0u);
+
+    std::string newer_look = kLookJson;
+    newer_look.replace(newer_look.find("\"version\": 1"), 12, "\"version\": 9");
+    fl_look look{};
+    EXPECT_EQ(fl_look_from_json(newer_look.c_str(), 0, "newer.json", &look), FL_ERROR_LOOK)
+        << fl_last_error();
+    EXPECT_NE(std::string(fl_last_error()).find("newer.json"), std::string::npos) << fl_last_error();
+
+    const fl_instance inst = createInstance(world_, package_);
+    fl_outputs_desc out = fl_outputs_desc_defaults();
+    out.image = 0;
+    out.lens_flare = 1;
+    EXPECT_EQ(fl_instance_set_outputs(world_, inst, &out), FL_ERROR_INVALID_ARGUMENT) << fl_last_error();
+    EXPECT_NE(std::string(fl_last_error()).find("lens flare"), std::string::npos) << fl_last_error();
+}
+
 // Frame 4's image of `look`, as an instance paused there shows it.
 std::vector<float> shownImage(fl_world world, fl_package package, fl_look look) {
     fl_instance inst{};
