@@ -3,6 +3,7 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "common/error.h"
 #include "package/container_reader.h"
 
 namespace firelook::bake {
@@ -40,8 +41,8 @@ BakeCheckpoint::BakeCheckpoint(const std::filesystem::path& output, bool resume)
         }
     }
     if (!std::filesystem::create_directory(folder_, error) && error)
-        throw std::runtime_error(folder_.string() + ": cannot create the folder for finished frames: " +
-                                 error.message());
+        throw Error(ErrorCode::IoError,
+                    folder_.string() + ": cannot create the folder for finished frames: " + error.message());
 }
 
 BakeCheckpoint::~BakeCheckpoint() {
@@ -61,15 +62,15 @@ std::optional<FrameMetadata> BakeCheckpoint::reusable(int frame, const nlohmann:
     try {
         const package::ContainerReader reader = package::ContainerReader::open(path);
         const std::optional<std::string> meta = reader.metadata();
-        if (!meta) throw std::runtime_error("it has no metadata");
+        if (!meta) throw Error(ErrorCode::Corrupt, "it has no metadata");
         const BakeMetadata kept = splitMetadata(*meta, path);
         if (const std::string d = firstDifference(shared, kept.shared); !d.empty())
-            throw std::runtime_error("it was baked with other settings (" + d + ")");
+            throw Error(ErrorCode::InvalidArgument, "it was baked with other settings (" + d + ")");
         if (kept.frames.size() != 1 || !kept.frames.contains(frame))
-            throw std::runtime_error("it does not hold exactly frame " + std::to_string(frame));
+            throw Error(ErrorCode::Corrupt, "it does not hold exactly frame " + std::to_string(frame));
         const FrameMetadata& entries = kept.frames.at(frame);
         if (entries.source.value("xxh3_64", std::string()) != source_hash)
-            throw std::runtime_error("the frame's input file has changed since");
+            throw Error(ErrorCode::InvalidArgument, "the frame's input file has changed since");
         // Every section's checksum, so a part damaged on disk is baked again rather than merged.
         for (const package::SectionInfo& s : reader.sections()) (void)reader.stored(s);
         return entries;

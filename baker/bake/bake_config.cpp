@@ -9,6 +9,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/error.h"
+
 namespace firelook::bake {
 
 using nlohmann::json;
@@ -23,7 +25,8 @@ std::vector<double> axisFromJson(const json& value) {
     const int count = value.at("count").get<int>();
     const bool geometric = value.value("spacing", std::string("linear")) == "geometric";
     if (count < 1 || (count > 1 && !(hi > lo)) || (geometric && !(lo > 0)))
-        throw std::invalid_argument("axis needs count >= 1, max > min (and min > 0 when geometric)");
+        throw Error(ErrorCode::InvalidArgument,
+                    "axis needs count >= 1, max > min (and min > 0 when geometric)");
     std::vector<double> out;
     for (int i = 0; i < count; ++i) {
         const double t = count == 1 ? 0.0 : double(i) / (count - 1);
@@ -34,14 +37,15 @@ std::vector<double> axisFromJson(const json& value) {
 
 void checkKeys(const json& object, const std::set<std::string>& known, const std::string& where) {
     for (const auto& [key, value] : object.items())
-        if (!known.count(key)) throw std::invalid_argument("unknown key '" + key + "' in " + where);
+        if (!known.count(key))
+            throw Error(ErrorCode::InvalidArgument, "unknown key '" + key + "' in " + where);
 }
 
 }  // namespace
 
 void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
     std::ifstream in(file);
-    if (!in) throw std::runtime_error(file.string() + ": cannot open bake config");
+    if (!in) throw Error(ErrorCode::IoError, file.string() + ": cannot open bake config");
     try {
         std::stringstream text;
         text << in.rdbuf();
@@ -58,12 +62,15 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         if (j.contains("lights")) {
             const std::string lights = j["lights"].get<std::string>();
             if (lights != "scene" && lights != "six-way")
-                throw std::invalid_argument("lights must be \"scene\" or \"six-way\", not \"" + lights + "\"");
+                throw Error(ErrorCode::InvalidArgument,
+                            "lights must be \"scene\" or \"six-way\", not \"" + lights + "\"");
             c.scene.six_way_lights = lights == "six-way";
         }
         if (j.contains("camera")) {
             const std::vector<double> camera = j["camera"].get<std::vector<double>>();
-            if (camera.size() != 7) throw std::invalid_argument("camera needs 7 numbers: position, target, fov in degrees");
+            if (camera.size() != 7)
+                throw Error(ErrorCode::InvalidArgument,
+                            "camera needs 7 numbers: position, target, fov in degrees");
             std::array<double, 7> values;
             std::copy(camera.begin(), camera.end(), values.begin());
             c.scene.camera = values;
@@ -78,7 +85,8 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         if (j.contains("seed")) c.seed = j["seed"].get<uint64_t>();
         if (j.contains("up")) {
             const std::string up = j["up"].get<std::string>();
-            if (up != "y" && up != "z") throw std::invalid_argument("up must be \"y\" or \"z\", not \"" + up + "\"");
+            if (up != "y" && up != "z")
+                throw Error(ErrorCode::InvalidArgument, "up must be \"y\" or \"z\", not \"" + up + "\"");
             c.scene.up = up == "z" ? render::UpAxis::Z : render::UpAxis::Y;
         }
         if (j.contains("density_grid")) c.read.density_grid = j["density_grid"].get<std::string>();
@@ -88,7 +96,7 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         if (j.contains("density_scale")) {
             c.read.density_scale = j["density_scale"].get<double>();
             if (!(c.read.density_scale > 0.0 && std::isfinite(c.read.density_scale)))
-                throw std::invalid_argument("density_scale must be a positive number");
+                throw Error(ErrorCode::InvalidArgument, "density_scale must be a positive number");
         }
         if (j.contains("axes")) {
             const json& a = j["axes"];
@@ -133,25 +141,31 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             c.storage.footprint_error = t.value("footprint_error", c.storage.footprint_error);
         }
         basis::validateAxes(derivedAxes(c.axes, AxisDerivation{}));  // the given ones, the design's beside them
-        if (c.bins < 1 || c.bins > 256) throw std::invalid_argument("bins must be 1..256");
-        if (!(c.albedo >= 0.0 && c.albedo <= 1.0)) throw std::invalid_argument("albedo must be in [0, 1]");
+        if (c.bins < 1 || c.bins > 256) throw Error(ErrorCode::InvalidArgument, "bins must be 1..256");
+        if (!(c.albedo >= 0.0 && c.albedo <= 1.0))
+            throw Error(ErrorCode::InvalidArgument, "albedo must be in [0, 1]");
         if (j.contains("memory_budget")) c.memory_budget_bytes = parseByteSize(j["memory_budget"].get<std::string>());
         if (c.trace.step_voxels <= 0.0 || c.trace.cell_voxels < 1 || c.trace.photons_primary < 1 ||
             c.trace.max_cells_per_axis < 1 || !(c.trace.max_cell_optical_depth > 0.0) || c.trace.light_points_per_axis < 2 || !(c.trace.footprint_step >= 0.0) ||
             c.trace.photons_per_order < 1 || c.trace.footprint_samples_per_axis < 0 ||
             c.trace.footprint_samples_per_axis > 8)
-            throw std::invalid_argument("trace settings must be positive (footprint_samples_per_axis 0..8, 0 = from the image size)");
-    } catch (const std::exception& e) {
-        throw std::runtime_error(file.string() + ": " + e.what());
+            throw Error(
+                ErrorCode::InvalidArgument,
+                "trace settings must be positive (footprint_samples_per_axis 0..8, 0 = from the image size)");
+    } catch (const Error& e) {
+        throw Error(e.code(), file.string() + ": " + e.what());
+    } catch (const std::exception& e) {  // nlohmann-json's: the file is not the JSON a config is
+        throw Error(ErrorCode::InvalidArgument, file.string() + ": " + e.what());
     }
 }
 
 void checkStorageTarget(const StorageTarget& target) {
     if (target.package_bytes > 0 && target.basis_error > 0.0)
-        throw std::invalid_argument("a target size and a target error cannot both be given: one decides the other");
+        throw Error(ErrorCode::InvalidArgument,
+                    "a target size and a target error cannot both be given: one decides the other");
     if (target.basis_error != 0.0 && !(target.basis_error > 0.0 && target.basis_error < 1.0))
-        throw std::invalid_argument("the target error must be a relative error in (0, 1), got " +
-                                    std::to_string(target.basis_error));
+        throw Error(ErrorCode::InvalidArgument, "the target error must be a relative error in (0, 1), got " +
+                                                    std::to_string(target.basis_error));
 }
 
 uint64_t parseByteSize(const std::string& text) {
@@ -173,8 +187,10 @@ uint64_t parseByteSize(const std::string& text) {
     else if (unit == "G") scale = 1024.0 * 1024.0 * 1024.0;
     else if (unit == "T") scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
     if (used == 0 || scale == 0.0 || !(value > 0.0) || !(value * scale < 1.8e19))
-        throw std::invalid_argument("a size must be a positive number with an optional unit K, M, G or T "
-                                    "(binary, e.g. 6G or 6GiB), got \"" + text + "\"");
+        throw Error(ErrorCode::InvalidArgument,
+                    "a size must be a positive number with an optional unit K, M, G or T "
+                    "(binary, e.g. 6G or 6GiB), got \"" +
+                        text + "\"");
     return static_cast<uint64_t>(value * scale);
 }
 

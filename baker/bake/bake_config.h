@@ -54,10 +54,10 @@ struct BakeConfig {
 // in a bake setting should not silently bake the wrong thing).
 void applyConfigFile(BakeConfig& config, const std::filesystem::path& file);
 
-// Throws std::invalid_argument when both targets are given or the error is not in (0, 1).
+// Throws an InvalidArgument Error when both targets are given or the error is not in (0, 1).
 void checkStorageTarget(const StorageTarget& target);
 
-// "6G", "6GiB", "512M", "1048576": bytes. Throws std::invalid_argument naming the text.
+// "6G", "6GiB", "512M", "1048576": bytes. Throws an InvalidArgument Error naming the text.
 uint64_t parseByteSize(const std::string& text);
 
 // The whole configuration as JSON, recorded in the package as provenance.

@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "common/error.h"
+
 namespace firelook::bake {
 namespace {
 
@@ -47,7 +49,8 @@ std::string differenceAt(const ordered_json& a, const ordered_json& b, const std
 
 BakeMetadata splitMetadata(const std::string& meta_json, const std::filesystem::path& file) {
     const auto fail = [&](const std::string& problem) {
-        return std::runtime_error(file.string() + ": " + problem + " (not a package written by firelook bake?)");
+        return Error(ErrorCode::Corrupt,
+                     file.string() + ": " + problem + " (not a package written by firelook bake?)");
     };
     BakeMetadata m;
     m.shared = ordered_json::parse(meta_json, nullptr, false);

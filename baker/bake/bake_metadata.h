@@ -24,7 +24,7 @@ struct BakeMetadata {
     std::map<int, FrameMetadata> frames;    // by frame number
 };
 
-// Splits a package's META text. Throws std::runtime_error naming `file` when the text is not a
+// Splits a package's META text. Throws a Corrupt Error naming `file` when the text is not a
 // bake's document (no provenance, a per-frame list missing, entries that do not name one frame each).
 BakeMetadata splitMetadata(const std::string& meta_json, const std::filesystem::path& file);
 

@@ -17,6 +17,7 @@
 #include "bake/fire_light_tracer.h"
 #include "bake/package_merge.h"
 #include "basis/basis_package.h"
+#include "common/error.h"
 #include "look/look.h"
 #include "package/container_writer.h"
 #include "vdb/volume_frame.h"
@@ -108,7 +109,7 @@ FrameMemoryPlan frameMemoryPlan(const render::Medium& medium, const render::Came
 SequenceSurvey surveySequence(const vdb::VdbSequence& sequence, const std::function<bool(int frame)>& keep_going) {
     SequenceSurvey survey;
     for (int frame : selectFrames(sequence, "")) {
-        if (keep_going && !keep_going(frame)) throw std::runtime_error("cancelled");
+        if (keep_going && !keep_going(frame)) throw Error(ErrorCode::Cancelled, "cancelled");
         const render::Medium medium = mediumFromFrame(sequence.load(frame));
         survey.temperatures.merge(densityTemperatureRange(medium));
         survey.density.merge(densityDepth(medium));
@@ -129,7 +130,8 @@ DescribedBake describeDerivedBake(const vdb::VdbSequence& sequence, const BakeCo
         d.bins.t_lo = config.t_lo.value_or(lo);
         d.bins.t_hi = config.t_hi.value_or(hi);
     }
-    if (!(d.bins.t_hi > d.bins.t_lo)) throw std::invalid_argument("temperature range needs t_hi > t_lo");
+    if (!(d.bins.t_hi > d.bins.t_lo))
+        throw Error(ErrorCode::InvalidArgument, "temperature range needs t_hi > t_lo");
     d.rbf_width = config.rbf_width;
     d.albedo = config.albedo;
     // The default look is always the data's; only the axes not given are mapped.
@@ -331,7 +333,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         const auto frame_progress = [&](double f) {
             return !progress || progress((double(n) + 0.9 * f) / frames.size(), detail);
         };
-        if (!frame_progress(0.0)) throw std::runtime_error("cancelled");
+        if (!frame_progress(0.0)) throw Error(ErrorCode::Cancelled, "cancelled");
         parts.push_back(checkpoint.partPath(frame_number));
         const std::string source_hash = fileHash(
             std::find_if(sequence.frames().begin(), sequence.frames().end(), [&](const vdb::FrameFile& f) {
@@ -342,7 +344,8 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
             if (const std::optional<FrameMetadata> kept = checkpoint.reusable(frame_number, shared, source_hash, why)) {
                 report.frames.push_back(reportFromMetadata(frame_number, *kept));
                 report.uncompressed_basis_bytes += frame_basis_bytes;
-                if (progress && !progress(double(n + 1) / frames.size(), detail + " kept")) throw std::runtime_error("cancelled");
+                if (progress && !progress(double(n + 1) / frames.size(), detail + " kept"))
+                    throw Error(ErrorCode::Cancelled, "cancelled");
                 continue;
             }
             if (notice && !why.empty()) notice(why);
@@ -367,12 +370,14 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         trace.seed = config.seed * 1000003ULL + static_cast<uint64_t>(frame_number);
         const FrameMemoryPlan plan = frameMemoryPlan(medium, scene.camera, model, trace, config.compression, budget);
         if (!plan.fits(budget))
-            throw std::runtime_error(
-                "frame " + std::to_string(frame_number) + " needs an estimated " + mib(plan.peakBytes()) +
-                " (basis images " + mib(plan.trace.basis_bytes) + ", optical depths " + mib(plan.trace.depth_bytes) +
-                ", scattered light " + mib(plan.trace.cell_bytes) + ", medium " + mib(plan.trace.medium_bytes) +
-                ", compression " + mib(plan.compression_bytes) + "), more than the memory budget of " + mib(budget) +
-                "; lower --size, --bins or the look axes' samples, or raise --memory-budget");
+            throw Error(ErrorCode::InvalidArgument,
+                        "frame " + std::to_string(frame_number) + " needs an estimated " +
+                            mib(plan.peakBytes()) + " (basis images " + mib(plan.trace.basis_bytes) +
+                            ", optical depths " + mib(plan.trace.depth_bytes) + ", scattered light " +
+                            mib(plan.trace.cell_bytes) + ", medium " + mib(plan.trace.medium_bytes) +
+                            ", compression " + mib(plan.compression_bytes) +
+                            "), more than the memory budget of " + mib(budget) +
+                            "; lower --size, --bins or the look axes' samples, or raise --memory-budget");
         fr.cell_edge_voxels = plan.trace.cell_edge_voxels;
         fr.light_spacing_voxels = plan.trace.light_spacing_voxels;
         fr.cell_optical_depth = plan.trace.cell_optical_depth;
@@ -439,7 +444,8 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         writer.commit();
         report.uncompressed_basis_bytes += frame_basis_bytes;
         report.frames.push_back(fr);
-        if (progress && !progress(double(n + 1) / frames.size(), detail)) throw std::runtime_error("cancelled");
+        if (progress && !progress(double(n + 1) / frames.size(), detail))
+            throw Error(ErrorCode::Cancelled, "cancelled");
     }
 
     // The package from the frames' parts, as `firelook merge` writes it; the selection may skip

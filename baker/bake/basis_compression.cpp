@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "basis/source_balance.h"
+#include "common/error.h"
 
 namespace firelook::bake {
 namespace {
@@ -132,7 +133,7 @@ CompressedFrame compressFrameBasis(const FrameBasis& basis, int frame, const Fra
 
 CompressedFrame leadingColumns(const CompressedFrame& frame, int rank) {
     const int full = frame.factors.rank;
-    if (rank < 0 || rank > full) throw std::invalid_argument("leadingColumns: rank out of range");
+    if (rank < 0 || rank > full) throw Error(ErrorCode::InvalidArgument, "leadingColumns: rank out of range");
     CompressedFrame out;
     out.factors.frame = frame.factors.frame;
     out.factors.pixels = frame.factors.pixels;

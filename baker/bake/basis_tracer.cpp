@@ -17,6 +17,7 @@
 #include "bake/photon_start_sampler.h"
 #include "bake/scatter_cells.h"
 #include "bake/trace_tables.h"
+#include "common/error.h"
 
 namespace firelook::bake {
 namespace {
@@ -40,7 +41,7 @@ class ProgressGate {
         throwIfStopped();
     }
     void throwIfStopped() const {
-        if (stop_.load()) throw std::runtime_error("cancelled");
+        if (stop_.load()) throw Error(ErrorCode::Cancelled, "cancelled");
     }
     const std::atomic<bool>& stopFlag() const { return stop_; }
     bool stopped() const { return stop_.load(std::memory_order_relaxed); }
@@ -65,7 +66,8 @@ void validateModel(const BasisModel& model) {
     if (model.axes.temperature_threshold.size() > kMaxAxisSamples ||
         model.axes.smoke_extinction.size() > kMaxAxisSamples || model.axes.flame_extinction.size() > kMaxAxisSamples ||
         model.alpha_thresholds.size() > kMaxAxisSamples || model.alpha_thresholds.empty())
-        throw std::invalid_argument("at most 64 samples per parameter axis and 1..64 alpha thresholds");
+        throw Error(ErrorCode::InvalidArgument,
+                    "at most 64 samples per parameter axis and 1..64 alpha thresholds");
 }
 
 }  // namespace

@@ -147,7 +147,7 @@ struct FrameBasis {
 };
 
 // progress(fraction) returns false to cancel; traceFrameBasis then throws
-// std::runtime_error("cancelled") without a result. It is called from one thread at a time, but
+// a Cancelled Error ("cancelled") without a result. It is called from one thread at a time, but
 // not always the caller's. Without a plan, the trace makes its own with planFrameTrace(settings).
 FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& camera, const BasisModel& model,
                            const TraceSettings& settings, const std::function<bool(double)>& progress = {});

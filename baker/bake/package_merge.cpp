@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "bake/bake_metadata.h"
+#include "common/error.h"
 #include "package/container_reader.h"
 #include "package/container_writer.h"
 
@@ -22,19 +23,20 @@ struct Part {
 Part openPart(const std::filesystem::path& path) {
     Part part{path, package::ContainerReader::open(path), {}, {}};
     const std::optional<std::string> meta = part.reader.metadata();
-    if (!meta) throw std::runtime_error(path.string() + ": package has no metadata (META) section");
+    if (!meta) throw Error(ErrorCode::Corrupt, path.string() + ": package has no metadata (META) section");
     part.meta = splitMetadata(*meta, path);
     for (const package::SectionInfo& s : part.reader.sections()) {
         if (s.type == package::kMetadataType) continue;
         if (s.frame == package::kNoFrame || !part.meta.frames.contains(static_cast<int>(s.frame)))
-            throw std::runtime_error(path.string() + ": holds a section of no frame its metadata lists (type " +
-                                     std::to_string(s.type) + ", frame " + std::to_string(s.frame) + ")");
+            throw Error(ErrorCode::Corrupt,
+                        path.string() + ": holds a section of no frame its metadata lists (type " +
+                            std::to_string(s.type) + ", frame " + std::to_string(s.frame) + ")");
         part.sections[static_cast<int>(s.frame)].push_back(s);
     }
     for (const auto& [frame, entries] : part.meta.frames)
         if (!part.sections.contains(frame))
-            throw std::runtime_error(path.string() + ": its metadata lists frame " + std::to_string(frame) +
-                                     " but it holds no section of it");
+            throw Error(ErrorCode::Corrupt, path.string() + ": its metadata lists frame " +
+                                                std::to_string(frame) + " but it holds no section of it");
     return part;
 }
 
@@ -54,7 +56,7 @@ std::string rangesText(const std::vector<int>& frames) {
 
 MergeResult mergePackages(const std::vector<std::filesystem::path>& paths, const std::filesystem::path& output,
                           const MergeOptions& options, const std::function<void(const std::string&)>& notice) {
-    if (paths.empty()) throw std::invalid_argument("merge: no parts given");
+    if (paths.empty()) throw Error(ErrorCode::InvalidArgument, "merge: no parts given");
     std::vector<Part> parts;
     parts.reserve(paths.size());
     std::map<int, size_t> owner;  // frame -> part
@@ -63,18 +65,20 @@ MergeResult mergePackages(const std::vector<std::filesystem::path>& paths, const
         const Part& part = parts.back();
         const Part& first = parts.front();
         if (!(part.reader.version() == first.reader.version()))
-            throw std::runtime_error(path.string() + ": package format " + std::to_string(part.reader.version().major) +
-                                     "." + std::to_string(part.reader.version().minor) + ", but " +
-                                     first.path.string() + " has " + std::to_string(first.reader.version().major) +
-                                     "." + std::to_string(first.reader.version().minor));
+            throw Error(ErrorCode::InvalidArgument,
+                        path.string() + ": package format " + std::to_string(part.reader.version().major) +
+                            "." + std::to_string(part.reader.version().minor) + ", but " +
+                            first.path.string() + " has " + std::to_string(first.reader.version().major) +
+                            "." + std::to_string(first.reader.version().minor));
         if (const std::string d = firstDifference(first.meta.shared, part.meta.shared); !d.empty())
-            throw std::runtime_error(path.string() + ": not baked like " + first.path.string() +
-                                     " (same sequence, settings and tool needed): " + d);
+            throw Error(ErrorCode::InvalidArgument, path.string() + ": not baked like " +
+                                                        first.path.string() +
+                                                        " (same sequence, settings and tool needed): " + d);
         std::vector<int> frames;
         for (const auto& [frame, entries] : part.meta.frames) {
             if (const auto [it, added] = owner.emplace(frame, parts.size() - 1); !added)
-                throw std::runtime_error(path.string() + ": frame " + std::to_string(frame) + " is also in " +
-                                         parts[it->second].path.string());
+                throw Error(ErrorCode::InvalidArgument, path.string() + ": frame " + std::to_string(frame) +
+                                                            " is also in " + parts[it->second].path.string());
             frames.push_back(frame);
         }
         if (notice) notice(path.string() + ": frames " + rangesText(frames));
@@ -85,7 +89,9 @@ MergeResult mergePackages(const std::vector<std::filesystem::path>& paths, const
             return std::none_of(options.only.begin(), options.only.end(),
                                 [&](const auto& r) { return entry.first >= r.first && entry.first <= r.second; });
         });
-        if (owner.empty()) throw std::invalid_argument("merge: no frame of the parts is in the frames asked for");
+        if (owner.empty())
+            throw Error(ErrorCode::InvalidArgument,
+                        "merge: no frame of the parts is in the frames asked for");
     }
     MergeResult result;
     for (const auto& [frame, part] : owner) result.frames.push_back(frame);
@@ -93,9 +99,10 @@ MergeResult mergePackages(const std::vector<std::filesystem::path>& paths, const
         const nlohmann::ordered_json::json_pointer pointer("/provenance/sequence_frames");
         const nlohmann::ordered_json& shared = parts.front().meta.shared;
         if (!shared.contains(pointer) || !shared.at(pointer).is_array())
-            throw std::runtime_error(paths.front().string() +
-                                     ": its metadata does not list the sequence's frames, so missing frames cannot be "
-                                     "found; merge with --allow-gaps");
+            throw Error(ErrorCode::InvalidArgument,
+                        paths.front().string() +
+                            ": its metadata does not list the sequence's frames, so missing frames cannot be "
+                            "found; merge with --allow-gaps");
         std::vector<int> missing;
         for (const nlohmann::ordered_json& f : shared.at(pointer)) {
             const int frame = f.get<int>();
@@ -103,8 +110,9 @@ MergeResult mergePackages(const std::vector<std::filesystem::path>& paths, const
                 missing.push_back(frame);
         }
         if (!missing.empty())
-            throw std::runtime_error("merge: no part holds frame" + std::string(missing.size() > 1 ? "s " : " ") +
-                                     rangesText(missing) + " of the sequence (--allow-gaps accepts that)");
+            throw Error(ErrorCode::NotFound,
+                        "merge: no part holds frame" + std::string(missing.size() > 1 ? "s " : " ") +
+                            rangesText(missing) + " of the sequence (--allow-gaps accepts that)");
     }
 
     package::ContainerWriter writer(output);

@@ -27,7 +27,7 @@ struct MergeResult {
 // is in two parts and, unless options.allow_gaps, that no frame of the sequence between the first
 // and the last frame present is missing. Then writes `output` atomically with the frames in
 // increasing order, every section copied as stored: byte for byte the package that one bake of
-// those frames writes. Throws std::runtime_error naming the part and the problem (nothing is
+// those frames writes. Throws firelook::Error naming the part and the problem (nothing is
 // written then; also when `options.only` selects no frame). `notice` gets one line per part read.
 MergeResult mergePackages(const std::vector<std::filesystem::path>& parts, const std::filesystem::path& output,
                           const MergeOptions& options = {},

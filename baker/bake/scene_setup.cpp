@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/gtc/type_ptr.hpp>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
 
-#include <glm/gtc/type_ptr.hpp>
-
 #include "basis/six_way_lights.h"
+#include "common/error.h"
 #include "gltf/gltf_scene.h"
 #include "vdb/dense_volume.h"
 #include "vdb/frame_grids.h"
@@ -38,7 +38,9 @@ SceneSetup resolveScene(const vdb::VdbSequence& sequence, const SceneOptions& op
     }
     if (!camera) {
         const vdb::Aabb& bounds = sequence.sequenceWorldBounds();
-        if (bounds.empty()) throw std::runtime_error(sequence.source() + ": every frame is empty; no camera can frame it");
+        if (bounds.empty())
+            throw Error(ErrorCode::BadVolume,
+                        sequence.source() + ": every frame is empty; no camera can frame it");
         camera = render::defaultCamera(bounds.min, bounds.max, options.up, options.width, options.height);
     }
     setup.camera = *camera;
@@ -97,7 +99,8 @@ std::vector<std::pair<int, int>> parseFrameRanges(const std::string& selection) 
             const int first = std::stoi(part.substr(0, dash));
             ranges.emplace_back(first, dash == std::string::npos ? first : std::stoi(part.substr(dash + 1)));
         } catch (const std::exception&) {
-            throw std::invalid_argument("--frames '" + selection + "' is not a list of A-B ranges or frames");
+            throw Error(ErrorCode::InvalidArgument,
+                        "--frames '" + selection + "' is not a list of A-B ranges or frames");
         }
         start = comma + 1;
     }
@@ -113,7 +116,8 @@ std::vector<int> selectFrames(const vdb::VdbSequence& sequence, const std::strin
                             });
         if (wanted) frames.push_back(f.number);
     }
-    if (frames.empty()) throw std::invalid_argument(sequence.source() + ": no frame in '" + selection + "'");
+    if (frames.empty())
+        throw Error(ErrorCode::InvalidArgument, sequence.source() + ": no frame in '" + selection + "'");
     // Numbers the selection names but the sequence lacks (a gap, or past either end) are skipped:
     // said once, or refused under --strict. The union of the ranges minus the frames, as intervals.
     std::vector<std::pair<long long, long long>> wanted;
@@ -146,7 +150,8 @@ std::vector<int> selectFrames(const vdb::VdbSequence& sequence, const std::strin
     if (skipped_count > 0) {
         const std::string message = sequence.source() + ": --frames " + selection + " skips " +
                                     (skipped_count == 1 ? "frame " : "frames ") + skipped + " (no file)";
-        if (sequence.options().strict) throw std::invalid_argument(message + " (refused by --strict)");
+        if (sequence.options().strict)
+            throw Error(ErrorCode::InvalidArgument, message + " (refused by --strict)");
         if (sequence.options().warn) sequence.options().warn(message);
     }
     return frames;
@@ -155,15 +160,16 @@ std::vector<int> selectFrames(const vdb::VdbSequence& sequence, const std::strin
 std::pair<int, int> parseSize(const std::string& text) {
     const size_t x = text.find('x');
     try {
-        if (x == std::string::npos) throw std::invalid_argument("no x");
+        if (x == std::string::npos) throw Error(ErrorCode::InvalidArgument, "no x");
         size_t w_end = 0, h_end = 0;
         const std::string w_text = text.substr(0, x), h_text = text.substr(x + 1);
         const int w = std::stoi(w_text, &w_end), h = std::stoi(h_text, &h_end);
-        if (w_end != w_text.size() || h_end != h_text.size()) throw std::invalid_argument("trailing characters");
-        if (w < 1 || h < 1 || w > 16384 || h > 16384) throw std::invalid_argument("range");
+        if (w_end != w_text.size() || h_end != h_text.size())
+            throw Error(ErrorCode::InvalidArgument, "trailing characters");
+        if (w < 1 || h < 1 || w > 16384 || h > 16384) throw Error(ErrorCode::InvalidArgument, "range");
         return {w, h};
     } catch (const std::exception&) {
-        throw std::invalid_argument("--size '" + text + "' is not WxH with 1..16384 pixels each");
+        throw Error(ErrorCode::InvalidArgument, "--size '" + text + "' is not WxH with 1..16384 pixels each");
     }
 }
 

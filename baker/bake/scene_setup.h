@@ -48,7 +48,7 @@ render::Medium mediumFromFrame(const vdb::VolumeFrame& frame);
 std::pair<double, double> sequenceTemperatureRange(const vdb::VdbSequence& sequence);
 
 // Parses "A-B,C,..." into its ranges ([first, last], a single frame as [C, C]); empty gives none.
-// std::invalid_argument naming the text when it is not such a list.
+// An InvalidArgument Error naming the text when it is not such a list.
 std::vector<std::pair<int, int>> parseFrameRanges(const std::string& selection);
 
 // Parses "A-B,C,..." into the frames of the sequence it selects (all when empty).

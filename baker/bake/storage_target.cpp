@@ -51,7 +51,7 @@ class CandidateEncoder {
 
     Candidate encode(const CompressedFrame& full, int rank, const CompressionSettings& compression,
                      const basis::FrameCodecSettings& storage) {
-        if (keep_going_ && !keep_going_()) throw std::runtime_error("cancelled");
+        if (keep_going_ && !keep_going_()) throw Error(ErrorCode::Cancelled, "cancelled");
         ++count;
         Candidate c;
         c.compressed = leadingColumns(full, std::min(rank, full.factors.rank));
@@ -184,9 +184,10 @@ uint64_t frameShareBytes(const StorageTarget& target, size_t sequence_frames, ui
     const uint64_t frames = std::max<size_t>(sequence_frames, 1);
     const uint64_t overhead = kFixedOverhead + shared_metadata_bytes + frames * kPerFrameOverhead;
     if (target.package_bytes <= overhead + frames * 1024)
-        throw std::invalid_argument("--target-size " + std::to_string(target.package_bytes) +
-                                    " bytes leaves almost nothing for " + std::to_string(frames) +
-                                    " frames once the metadata (" + std::to_string(overhead) + " bytes) is counted");
+        throw Error(ErrorCode::InvalidArgument, "--target-size " + std::to_string(target.package_bytes) +
+                                                    " bytes leaves almost nothing for " +
+                                                    std::to_string(frames) + " frames once the metadata (" +
+                                                    std::to_string(overhead) + " bytes) is counted");
     return (target.package_bytes - overhead) / frames;
 }
 

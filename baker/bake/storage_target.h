@@ -51,12 +51,12 @@ struct FramePrecision {
 
 // The bytes each frame may take for --target-size: (package_bytes - what META and the index cost)
 // / the sequence's frame count. `shared_metadata_bytes`: the shared META text, a bound on its
-// compressed size. Throws std::invalid_argument when the target leaves no bytes for frames.
+// compressed size. Throws an InvalidArgument Error when the target leaves no bytes for frames.
 uint64_t frameShareBytes(const StorageTarget& target, size_t sequence_frames, uint64_t shared_metadata_bytes);
 
 // Without an active target: the frame as `compression` and `storage` say. `frame_share_bytes` is
 // frameShareBytes' figure (used only for a size target). `keep_going` is asked between candidates
-// (false: throws std::runtime_error("cancelled")).
+// (false: throws a Cancelled Error, "cancelled").
 FramePrecision chooseFramePrecision(const FrameBasis& basis, int frame, const basis::BakeDescription& description,
                                     const CompressionSettings& compression, const basis::FrameCodecSettings& storage,
                                     const StorageTarget& target, uint64_t frame_share_bytes,

@@ -16,6 +16,7 @@
 #include "cli/output_option.h"
 #include "cli/progress_bar.h"
 #include "cli/staging_folder.h"
+#include "common/error.h"
 #include "image/contact_sheet.h"
 #include "image/image_io.h"
 #include "look/look_blend.h"
@@ -32,12 +33,12 @@ struct LookKey {
 LookKey parseKey(const std::string& text) {
     const size_t colon = text.find(':');
     if (colon == std::string::npos || colon == 0)
-        throw std::invalid_argument("--key '" + text + "' is not FRAME:LOOK.json");
+        throw Error(ErrorCode::InvalidArgument, "--key '" + text + "' is not FRAME:LOOK.json");
     LookKey key;
     try {
         key.frame = std::stoi(text.substr(0, colon));
     } catch (const std::exception&) {
-        throw std::invalid_argument("--key '" + text + "': frame is not a number");
+        throw Error(ErrorCode::InvalidArgument, "--key '" + text + "': frame is not a number");
     }
     key.look = loadLook(text.substr(colon + 1));
     return key;
@@ -77,7 +78,7 @@ void registerAnimateCommand(CLI::App& app) {
         std::sort(keys.begin(), keys.end(), [](const LookKey& a, const LookKey& b) { return a.frame < b.frame; });
         for (size_t i = 1; i < keys.size(); ++i)
             if (keys[i].frame == keys[i - 1].frame)
-                throw std::invalid_argument("two keys at frame " + std::to_string(keys[i].frame));
+                throw Error(ErrorCode::InvalidArgument, "two keys at frame " + std::to_string(keys[i].frame));
 
         StagingFolder staging(args->out_dir, "animate");
         image::WriteOptions png;

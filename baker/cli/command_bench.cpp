@@ -13,18 +13,16 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <filesystem>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numeric>
 #include <optional>
 #include <span>
 
-#include "world/package_camera.h"
-#include "bake/basis_tracer.h"
-#include "common/atomic_file.h"
 #include "bake/bake_pipeline.h"
+#include "bake/basis_tracer.h"
 #include "bake/scene_setup.h"
 #include "basis/basis_package.h"
 #include "basis/coefficients.h"
@@ -35,9 +33,12 @@
 #include "cli/output_option.h"
 #include "cli/progress_bar.h"
 #include "cli/sequence_options.h"
-#include "render/random.h"
+#include "common/atomic_file.h"
+#include "common/error.h"
 #include "render/footprint_transmittance.h"
+#include "render/random.h"
 #include "render/reference_tracer.h"
+#include "world/package_camera.h"
 
 namespace firelook::cli {
 namespace {
@@ -208,7 +209,7 @@ void appendCsvRow(const std::filesystem::path& file, const std::string& label, c
     out << label;
     for (const char* c : kColumns) out << ',' << summary.at(c).dump();
     out << '\n';
-    if (!out) throw std::runtime_error(file.string() + ": cannot append the bench row");
+    if (!out) throw Error(ErrorCode::IoError, file.string() + ": cannot append the bench row");
 }
 
 
@@ -282,7 +283,9 @@ void registerBenchCommand(CLI::App& app) {
         const ordered_json metadata = ordered_json::parse(package.metadataJson());
         // The package's camera as the runtime reads it (checked: finite, a field of view in (0, pi)).
         const std::optional<world::PackageCamera> baked = world::readPackageCamera(package.metadataJson(), args->package);
-        if (!baked) throw std::runtime_error(args->package + ": the package records no camera to render references with");
+        if (!baked)
+            throw Error(ErrorCode::NotFound,
+                        args->package + ": the package records no camera to render references with");
         render::CameraParameters camera_parameters;
         camera_parameters.world_from_camera = baked->world_from_camera;
         camera_parameters.yfov_radians = baked->yfov_radians;

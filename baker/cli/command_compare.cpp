@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "cli/commands.h"
+#include "common/error.h"
 #include "image/image_io.h"
 #include "render/render_image.h"
 
@@ -27,9 +28,10 @@ void registerCompareCommand(CLI::App& app) {
     cmd->callback([args] {
         const image::ImageRGBA a = image::readImage(args->image), r = image::readImage(args->reference);
         if (a.width != r.width || a.height != r.height)
-            throw std::runtime_error(args->image + " is " + std::to_string(a.width) + "x" + std::to_string(a.height) +
-                                     " but " + args->reference + " is " + std::to_string(r.width) + "x" +
-                                     std::to_string(r.height));
+            throw Error(ErrorCode::InvalidArgument, args->image + " is " + std::to_string(a.width) + "x" +
+                                                        std::to_string(a.height) + " but " + args->reference +
+                                                        " is " + std::to_string(r.width) + "x" +
+                                                        std::to_string(r.height));
         const double rmse = render::relativeRmse(toRenderImage(a), toRenderImage(r));
         const double alpha = render::maxAlphaError(toRenderImage(a), toRenderImage(r));
         if (args->json)

@@ -19,6 +19,7 @@
 #include "cli/interrupt.h"
 #include "cli/output_option.h"
 #include "cli/progress_bar.h"
+#include "common/error.h"
 #include "fit/look_fit.h"
 #include "image/fit_target.h"
 #include "image/image_io.h"
@@ -44,7 +45,8 @@ Rgb parseBackground(const std::string& text) {
     const int n = std::sscanf(text.c_str(), "%f,%f,%f%c", &r, &g, &b, &extra);
     if (n == 1) g = b = r;
     if ((n != 1 && n != 3) || !(r >= 0 && g >= 0 && b >= 0) || !std::isfinite(r + g + b))
-        throw std::invalid_argument("--background '" + text + "': expected R,G,B (or one value), linear, >= 0");
+        throw Error(ErrorCode::InvalidArgument,
+                    "--background '" + text + "': expected R,G,B (or one value), linear, >= 0");
     return Rgb(r, g, b);
 }
 
@@ -54,11 +56,14 @@ void applyFix(const std::string& text, fit::FitOptions& options) {
     double value = 0;
     char extra = 0;
     if (eq == std::string::npos || std::sscanf(text.c_str() + eq + 1, "%lf%c", &value, &extra) != 1)
-        throw std::invalid_argument("--fix '" + text + "': expected NAME=VALUE, NAME one of T_c, k_s, k_f");
+        throw Error(ErrorCode::InvalidArgument,
+                    "--fix '" + text + "': expected NAME=VALUE, NAME one of T_c, k_s, k_f");
     if (name == "T_c" || name == "temperature_threshold") options.temperature_threshold = value;
     else if (name == "k_s" || name == "smoke_extinction") options.smoke_extinction = value;
     else if (name == "k_f" || name == "flame_extinction") options.flame_extinction = value;
-    else throw std::invalid_argument("--fix '" + text + "': unknown parameter '" + name + "' (T_c, k_s or k_f)");
+    else
+        throw Error(ErrorCode::InvalidArgument,
+                    "--fix '" + text + "': unknown parameter '" + name + "' (T_c, k_s or k_f)");
 }
 
 struct TargetFlags {
@@ -163,8 +168,10 @@ void registerFitCommand(CLI::App& app) {
     cmd->add_option("--image", args->image, "also write the fitted look's image (.exr or .png; '#' = frame)");
     cmd->add_option("--difference", args->difference, "also write |fit - target| (.exr or .png; '#' = frame)");
     cmd->callback([args] {
-        if (!args->frame && args->frames.empty()) throw std::invalid_argument("fit: give --frame F or --frames A-B");
-        if (!std::isfinite(args->target.exposure)) throw std::invalid_argument("--exposure must be finite");
+        if (!args->frame && args->frames.empty())
+            throw Error(ErrorCode::InvalidArgument, "fit: give --frame F or --frames A-B");
+        if (!std::isfinite(args->target.exposure))
+            throw Error(ErrorCode::InvalidArgument, "--exposure must be finite");
         for (const std::string& f : args->fix) applyFix(f, args->options);
         const auto start = std::chrono::steady_clock::now();
         const basis::BasisReader package = basis::BasisReader::open(args->package);
@@ -178,10 +185,13 @@ void registerFitCommand(CLI::App& app) {
                 for (int f = first; f <= last; ++f) selected.push_back(f);
         }
         for (int f : selected)
-            if (!d.findFrame(f)) throw std::invalid_argument(args->package + ": has no frame " + std::to_string(f));
+            if (!d.findFrame(f))
+                throw Error(ErrorCode::InvalidArgument,
+                            args->package + ": has no frame " + std::to_string(f));
         if (selected.size() > 1 && args->target.target.find('#') == std::string::npos)
-            throw std::invalid_argument("--target " + args->target.target +
-                                        ": several frames need one target each ('#' for the frame number)");
+            throw Error(ErrorCode::InvalidArgument,
+                        "--target " + args->target.target +
+                            ": several frames need one target each ('#' for the frame number)");
 
         std::vector<fit::FrameTarget> targets;
         std::vector<basis::ResidentFrame> resident;
@@ -213,7 +223,8 @@ void registerFitCommand(CLI::App& app) {
         std::printf("fit %zu frame(s) of %s to %s: relative RMSE %.4f%% (linear RGB%s)", targets.size(),
                     args->package.c_str(), args->target.target.c_str(), 100.0 * result.relative_rmse,
                     image::isPngPath(args->target.target) ? ", display-weighted fit" : "");
-        if (alpha) std::printf(", alpha RMSE %.5f, max alpha error %.4f", result.alpha_rmse, result.alpha_max_error);
+        if (alpha)
+            std::printf(", alpha RMSE %.5f, max alpha error %.4f", result.alpha_rmse, result.alpha_max_error);
         std::printf("\n");
         // A clipped pixel says only that its value was at least the clip: it is left out, so a target
         // clipped over its core constrains the hottest bins at the core's edge alone.

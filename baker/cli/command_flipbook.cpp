@@ -15,6 +15,7 @@
 #include "cli/progress_bar.h"
 #include "cli/staging_folder.h"
 #include "common/atomic_file.h"
+#include "common/error.h"
 #include "flipbook/atlas.h"
 #include "flipbook/frame_layers.h"
 #include "image/image_io.h"
@@ -27,7 +28,7 @@ std::pair<int, int> parseGrid(const std::string& text) {
     try {
         return bake::parseSize(text);
     } catch (const std::exception&) {
-        throw std::invalid_argument("--grid '" + text + "' is not CxR (columns x rows)");
+        throw Error(ErrorCode::InvalidArgument, "--grid '" + text + "' is not CxR (columns x rows)");
     }
 }
 
@@ -59,8 +60,9 @@ void registerFlipbookCommand(CLI::App& app) {
         const flipbook::Layout layout = flipbook::parseLayout(args->layout);
         const bool six_way = flipbook::usesSixWayLights(layout);
         if (six_way && d.six_way_first_light < 0)
-            throw std::invalid_argument(args->package + ": baked without six-way lights; layout " + args->layout +
-                                        " needs them (firelook bake --lights six-way)");
+            throw Error(ErrorCode::InvalidArgument,
+                        args->package + ": baked without six-way lights; layout " + args->layout +
+                            " needs them (firelook bake --lights six-way)");
         const Look look = args->look.empty() ? parseLook(d.default_look_json, args->package + " (default look)")
                                              : loadLook(args->look);
         const auto ranges = bake::parseFrameRanges(args->frames);
@@ -70,13 +72,16 @@ void registerFlipbookCommand(CLI::App& app) {
                     return r.frame >= range.first && r.frame <= range.second;
                 }))
                 frames.push_back(r.frame);
-        if (frames.empty()) throw std::invalid_argument(args->package + ": no frame in --frames '" + args->frames + "'");
+        if (frames.empty())
+            throw Error(ErrorCode::InvalidArgument,
+                        args->package + ": no frame in --frames '" + args->frames + "'");
         int columns = static_cast<int>(std::ceil(std::sqrt(double(frames.size()))));
         int rows = static_cast<int>((frames.size() + columns - 1) / columns);
         if (!args->grid.empty()) std::tie(columns, rows) = parseGrid(args->grid);
         if (static_cast<size_t>(columns) * rows < frames.size())
-            throw std::invalid_argument("--grid " + args->grid + " holds " + std::to_string(columns * rows) +
-                                        " frames, fewer than the " + std::to_string(frames.size()) + " selected");
+            throw Error(ErrorCode::InvalidArgument,
+                        "--grid " + args->grid + " holds " + std::to_string(columns * rows) +
+                            " frames, fewer than the " + std::to_string(frames.size()) + " selected");
 
         std::vector<flipbook::FrameLayers> layers;
         ProgressBar bar("flipbook");

@@ -6,16 +6,17 @@
 #include <fstream>
 #include <map>
 #include <memory_resource>
-#include <stdexcept>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
 #include "basis/basis_package.h"
 #include "cli/commands.h"
 #include "cli/sequence_options.h"
+#include "common/error.h"
 #include "package/container_reader.h"
-#include "world/package.h"
 #include "vdb/vdb_sequence.h"
 #include "vdb/volume_frame.h"
+#include "world/package.h"
 
 namespace firelook::cli {
 namespace {
@@ -109,7 +110,8 @@ ordered_json packageInfo(const std::filesystem::path& path) {
         // A package's metadata is JSON (docs/package-format.md); anything else is damage to report, not
         // to describe around.
         if (doc.is_discarded())
-            throw std::runtime_error(path.string() + ": the metadata section (META) is not valid JSON");
+            throw Error(ErrorCode::Corrupt,
+                        path.string() + ": the metadata section (META) is not valid JSON");
         info["metadata"] = doc;
         // What each frame was baked from, for a pipeline that checks whether a package is up to
         // date: its input file's XXH3-64 (`xxhsum -H3`) and the hash of the settings it was baked with.
@@ -279,8 +281,9 @@ void checkPackage(const std::filesystem::path& path) {
         try {
             basis.loadResidentFrame(f.frame, std::pmr::get_default_resource());
             basis.loadFireLights(f.frame);
-        } catch (const std::exception& e) {
-            throw std::runtime_error(path.string() + ": frame " + std::to_string(f.frame) + " does not decode: " + e.what());
+        } catch (const std::exception& e) {  // any failure to decode is damage to report
+            throw Error(ErrorCode::Corrupt, path.string() + ": frame " + std::to_string(f.frame) +
+                                                " does not decode: " + e.what());
         }
     }
     std::fprintf(stderr, "firelook: check: %zu sections match their checksums, %zu frames decode\n",
@@ -304,7 +307,8 @@ void registerInfoCommand(CLI::App& app) {
     addSequenceFlags(*cmd, *flags);
     cmd->callback([path, json, flags, check] {
         const bool is_package = looksLikePackage(*path);
-        if (*check && !is_package) throw std::runtime_error(*path + ": --check takes a package, not a VDB sequence");
+        if (*check && !is_package)
+            throw Error(ErrorCode::InvalidArgument, *path + ": --check takes a package, not a VDB sequence");
         if (*check) checkPackage(*path);
         const ordered_json info = is_package ? packageInfo(*path) : sequenceInfo(*path, *flags);
         if (*json)

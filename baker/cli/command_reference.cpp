@@ -11,6 +11,7 @@
 #include "cli/output_option.h"
 #include "cli/progress_bar.h"
 #include "cli/scene_options.h"
+#include "common/error.h"
 #include "image/image_io.h"
 #include "look/look.h"
 #include "render/reference_tracer.h"
@@ -43,7 +44,8 @@ void registerReferenceCommand(CLI::App& app) {
         const bake::SceneSetup scene = bake::resolveScene(sequence, config.scene);
         const std::optional<basis::RunTimeLight> light = runTimeLight(*cmd, args->light);
         if (light && scene.six_way_first_light < 0)
-            throw std::invalid_argument("--light-dir takes the place of the six-way lights: pass --lights six-way");
+            throw Error(ErrorCode::InvalidArgument,
+                        "--light-dir takes the place of the six-way lights: pass --lights six-way");
         const basis::BakeDescription d = bake::describeBake(sequence, config, scene);
         const Look look = args->look.empty() ? parseLook(d.default_look_json, "default look") : loadLook(args->look);
         LookModel model = makeLookModel(look, d.bins, d.rbf_width, d.light_directions);

@@ -26,7 +26,7 @@ std::string describe(int signal_number) {
 
 }  // namespace
 
-InterruptedError::InterruptedError() : std::runtime_error(describe(interruptSignal())) {}
+InterruptedError::InterruptedError() : Error(ErrorCode::Cancelled, describe(interruptSignal())) {}
 
 void installInterruptHandler() {
     struct sigaction action {};

@@ -6,12 +6,14 @@
 // A second signal exits at once with the same code (temporary files may then remain).
 #pragma once
 
-#include <stdexcept>
 #include <string>
+
+#include "common/error.h"
 
 namespace firelook::cli {
 
-struct InterruptedError : std::runtime_error {
+// Code Cancelled; main() tells an interruption by interruptRequested(), not by this type.
+struct InterruptedError : Error {
     InterruptedError();
 };
 

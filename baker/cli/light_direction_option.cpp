@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "common/error.h"
+
 namespace firelook::cli {
 
 void addLightDirectionFlags(CLI::App& command, LightDirectionFlags& flags, const std::string& what) {
@@ -18,7 +20,7 @@ void addLightDirectionFlags(CLI::App& command, LightDirectionFlags& flags, const
 std::optional<basis::RunTimeLight> runTimeLight(const CLI::App& command, const LightDirectionFlags& flags) {
     if (command.count("--light-dir") == 0) {
         if (command.count("--light-irradiance") > 0)
-            throw std::invalid_argument("--light-irradiance needs --light-dir");
+            throw Error(ErrorCode::InvalidArgument, "--light-irradiance needs --light-dir");
         return std::nullopt;
     }
     basis::RunTimeLight light;
@@ -26,8 +28,8 @@ std::optional<basis::RunTimeLight> runTimeLight(const CLI::App& command, const L
     light.irradiance = {flags.irradiance[0], flags.irradiance[1], flags.irradiance[2]};
     try {
         basis::checkedUnitDirection(light);
-    } catch (const std::invalid_argument& e) {
-        throw std::invalid_argument(std::string("--light-dir / --light-irradiance: ") + e.what());
+    } catch (const Error& e) {
+        throw Error(e.code(), std::string("--light-dir / --light-irradiance: ") + e.what());
     }
     return light;
 }

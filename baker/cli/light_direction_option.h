@@ -18,7 +18,7 @@ struct LightDirectionFlags {
 // Adds both options to `command`; `what` ends --light-dir's help (how the command uses the light).
 void addLightDirectionFlags(CLI::App& command, LightDirectionFlags& flags, const std::string& what);
 
-// The light the flags give, nullopt without --light-dir. std::invalid_argument naming the flag for
+// The light the flags give, nullopt without --light-dir. An InvalidArgument Error naming the flag for
 // a zero or non-finite direction or a negative or non-finite irradiance.
 std::optional<basis::RunTimeLight> runTimeLight(const CLI::App& command, const LightDirectionFlags& flags);
 

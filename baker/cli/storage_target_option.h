@@ -20,7 +20,7 @@ void addStorageTargetFlags(CLI::App& command, StorageTargetFlags& flags, const s
                            const std::string& error_help);
 
 // The target the flags give (inactive when neither was given), checked by bake::checkStorageTarget:
-// std::invalid_argument for a size that does not parse or an error out of range.
+// An InvalidArgument Error for a size that does not parse or an error out of range.
 bake::StorageTarget storageTarget(const CLI::App& command, const StorageTargetFlags& flags);
 
 }  // namespace firelook::cli

@@ -56,7 +56,8 @@ FootprintTransmittance::FootprintTransmittance(const Medium& medium, const Camer
                 row_histograms[py].insert(row_histograms[py].end(), h.begin(), h.end());
             }
     });
-    if (stopped.load()) throw RenderError("footprint transmittance: stopped on request");
+    if (stopped.load())
+        throw RenderError(ErrorCode::Cancelled, "footprint transmittance: stopped on request");
     for (int py = 0; py < height_; ++py) {
         ray_pixel_.insert(ray_pixel_.end(), row_pixels[py].begin(), row_pixels[py].end());
         histogram_.insert(histogram_.end(), row_histograms[py].begin(), row_histograms[py].end());

@@ -28,11 +28,15 @@
 #include <string>
 #include <vector>
 
+#include "common/error.h"
+
 namespace firelook::gltf {
 
-class GltfError : public std::runtime_error {
+// Every glTF failure: a firelook::Error naming the file, code BadScene unless the site gives another.
+class GltfError : public Error {
   public:
-    using std::runtime_error::runtime_error;
+    explicit GltfError(const std::string& message) : Error(ErrorCode::BadScene, message) {}
+    GltfError(ErrorCode code, const std::string& message) : Error(code, message) {}
 };
 
 struct PerspectiveCamera {

@@ -4,14 +4,18 @@
 #include <cstddef>
 #include <span>
 #include <stdexcept>
+#include <string>
 #include <vector>
+
+#include "common/error.h"
 
 namespace firelook::image {
 
 // Thrown for every image failure; the message names the file (when there is one) and the problem.
-class ImageError : public std::runtime_error {
+class ImageError : public Error {
   public:
-    using std::runtime_error::runtime_error;
+    explicit ImageError(const std::string& message) : Error(ErrorCode::BadImage, message) {}
+    ImageError(ErrorCode code, const std::string& message) : Error(code, message) {}
 };
 
 // Linear HDR radiance with premultiplied alpha (alpha = 1 - transmittance), row-major, top row first:

@@ -489,12 +489,12 @@ void checkFileStructure(std::span<const std::byte> bytes, const std::string& nam
 void checkFileStructure(const std::filesystem::path& file) {
     const std::string name = file.string();
     const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) throw VdbError(name + ": cannot open: " + std::strerror(errno));
+    if (fd < 0) throw VdbError(ErrorCode::IoError, name + ": cannot open: " + std::strerror(errno));
     struct stat status {};
     if (::fstat(fd, &status) != 0) {
         const int error = errno;
         ::close(fd);
-        throw VdbError(name + ": cannot read its size: " + std::strerror(error));
+        throw VdbError(ErrorCode::IoError, name + ": cannot read its size: " + std::strerror(error));
     }
     const auto size = static_cast<std::size_t>(status.st_size);
     if (size == 0) {
@@ -507,7 +507,8 @@ void checkFileStructure(const std::filesystem::path& file) {
     void* mapped = ::mmap(nullptr, size, PROT_READ, MAP_PRIVATE, fd, 0);
     const int error = errno;
     ::close(fd);
-    if (mapped == MAP_FAILED) throw VdbError(name + ": cannot map the file: " + std::strerror(error));
+    if (mapped == MAP_FAILED)
+        throw VdbError(ErrorCode::IoError, name + ": cannot map the file: " + std::strerror(error));
     struct Unmap {
         void* data;
         std::size_t size;

@@ -93,7 +93,7 @@ std::vector<fs::path> regularFilesIn(const fs::path& folder, const std::string& 
     for (fs::directory_iterator it(folder, error), end; !error && it != end; it.increment(error)) {
         if (it->is_regular_file(error)) files.push_back(it->path());
     }
-    if (error) throw VdbError(source + ": cannot list folder: " + error.message());
+    if (error) throw VdbError(ErrorCode::IoError, source + ": cannot list folder: " + error.message());
     return files;
 }
 
@@ -139,7 +139,8 @@ std::vector<FrameFile> framesInFolder(const fs::path& folder, const std::string&
 
 std::vector<FrameFile> framesMatching(const fs::path& folder, const NamePattern& pattern,
                                       const std::string& source) {
-    if (!fs::is_directory(folder)) throw VdbError(source + ": folder " + folder.string() + " does not exist");
+    if (!fs::is_directory(folder))
+        throw VdbError(ErrorCode::IoError, source + ": folder " + folder.string() + " does not exist");
     std::vector<FrameFile> frames;
     for (const fs::path& file : regularFilesIn(folder, source)) {
         const std::string name = file.filename().string();
@@ -167,9 +168,10 @@ std::vector<FrameFile> findFrameFiles(const std::string& folder_or_pattern) {
         return framesMatching(folder, *pattern, source);
     }
     if (fs::is_regular_file(path)) return {{splitStem(path.stem().string()).number.value_or(0), path}};
-    throw VdbError(source +
-                   ": no such folder or file, and not a pattern (use a folder, fire_####.vdb or "
-                   "fire_%04d.vdb)");
+    throw VdbError(ErrorCode::IoError,
+                   source +
+                       ": no such folder or file, and not a pattern (use a folder, fire_####.vdb or "
+                       "fire_%04d.vdb)");
 }
 
 std::vector<int> missingFrameNumbers(const std::vector<FrameFile>& frames) {

@@ -70,7 +70,7 @@ IndexBox toIndexBox(const openvdb::CoordBBox& box) {
 void rethrowNamingFile(const std::filesystem::path& file) {
     try {
         throw;
-    } catch (const VdbError&) {
+    } catch (const Error&) {  // coded, and already naming its file
         throw;
     } catch (const std::exception& error) {
         throw VdbError(file.string() + ": " + error.what());

@@ -31,8 +31,8 @@ glm::dmat4 indexToWorldMatrix(const openvdb::math::Transform& transform, const s
 
 IndexBox toIndexBox(const openvdb::CoordBBox& box);
 
-// For use inside a catch block: rethrows VdbError as is and any other exception as a VdbError
-// whose message names the file.
+// For use inside a catch block: rethrows a coded firelook::Error (VdbError among them) as is and any
+// other exception (OpenVDB's) as a VdbError whose message names the file.
 [[noreturn]] void rethrowNamingFile(const std::filesystem::path& file);
 
 }  // namespace firelook::vdb

@@ -34,9 +34,10 @@ VolumeFrame VdbSequence::load(int frame_number) const {
     const auto frame = std::find_if(frames_.begin(), frames_.end(),
                                     [frame_number](const FrameFile& f) { return f.number == frame_number; });
     if (frame == frames_.end()) {
-        throw VdbError(source_ + ": no frame " + std::to_string(frame_number) + " (frames " +
-                       std::to_string(frames_.front().number) + " to " +
-                       std::to_string(frames_.back().number) + (gaps().empty() ? "" : ", with gaps") + ")");
+        throw VdbError(ErrorCode::NotFound, source_ + ": no frame " + std::to_string(frame_number) +
+                                                " (frames " + std::to_string(frames_.front().number) +
+                                                " to " + std::to_string(frames_.back().number) +
+                                                (gaps().empty() ? "" : ", with gaps") + ")");
     }
     if (options_.before_load) options_.before_load(frame->path);
     VolumeFrame loaded = loadFrame(*frame, options_);

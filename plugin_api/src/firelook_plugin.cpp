@@ -39,14 +39,9 @@ using plugin::FirstSize;
 
 // ---- errors -----------------------------------------------------------------
 
-// A failure the plugin itself detects, already in the C API's terms. The runtime's failures arrive as
-// firelook::Error and go through plugin::toResult (result_table.h).
-struct ApiError {
-    fl_result code;
-    std::string message;
-};
-
-[[noreturn]] void fail(fl_result code, std::string message) { throw ApiError{code, std::move(message)}; }
+// A failure the plugin itself detects is a firelook::Error like the runtime's, with the C API's own
+// codes in the one list (common/error.h): guarded() maps every code by plugin::toResult.
+[[noreturn]] void fail(ErrorCode code, const std::string& message) { throw Error(code, message); }
 
 thread_local std::string t_last_error;
 
@@ -90,24 +85,17 @@ fl_result guarded(const char* function, F&& body) noexcept {
         body();
         t_last_error.clear();
         return FL_OK;
-    } catch (const ApiError& e) {
-        code = e.code;
-        message = e.message;
     } catch (const Error& e) {
         code = plugin::toResult(e.code());
         message = e.what();
-    } catch (const std::bad_alloc&) {
-        code = FL_ERROR_OUT_OF_MEMORY;
+    } catch (const std::bad_alloc&) {  // the standard library's allocations (the C++ runtime's, not ours)
+        code = plugin::toResult(ErrorCode::OutOfMemory);
         message = "out of memory";
-    } catch (const std::invalid_argument& e) {
-        // Uncoded: the world's checks of what the plugin passed on from the caller.
-        code = FL_ERROR_INVALID_ARGUMENT;
-        message = e.what();
-    } catch (const std::exception& e) {
-        code = FL_ERROR_INTERNAL;
+    } catch (const std::exception& e) {  // uncoded: a third-party library's, or a bug
+        code = plugin::toResult(ErrorCode::Internal);
         message = e.what();
     } catch (...) {
-        code = FL_ERROR_INTERNAL;
+        code = plugin::toResult(ErrorCode::Internal);
         message = "unknown exception";
     }
     try {
@@ -120,18 +108,18 @@ fl_result guarded(const char* function, F&& body) noexcept {
 }
 
 void requireInit(Context& c) {
-    if (!c.initialized) fail(FL_ERROR_NOT_INITIALIZED, "fl_init has not been called (or failed)");
+    if (!c.initialized) fail(ErrorCode::NotInitialized, "fl_init has not been called (or failed)");
 }
 
 // Null and struct_size checks of a caller's struct (the struct rule, struct_rule.h).
 template <typename T>
 void checkStruct(const T* p, const char* what) {
-    if (!p) fail(FL_ERROR_INVALID_ARGUMENT, std::string(what) + " is null");
+    if (!p) fail(ErrorCode::InvalidArgument, std::string(what) + " is null");
     const uint32_t size = plugin::callerStructSize(p);
     if (size < FirstSize<T>::value)
-        fail(FL_ERROR_STRUCT_SIZE, std::string(what) + "->struct_size is " + std::to_string(size) +
-                                       ", expected at least " + std::to_string(FirstSize<T>::value) +
-                                       " (initialise it with the *_defaults() function)");
+        fail(ErrorCode::StructSize, std::string(what) + "->struct_size is " + std::to_string(size) +
+                                        ", expected at least " + std::to_string(FirstSize<T>::value) +
+                                        " (initialise it with the *_defaults() function)");
 }
 
 // The library's copy of a caller's input struct.
@@ -149,7 +137,7 @@ void writeOut(T* p, const T& value) {
 
 template <typename T>
 void checkPointer(T* p, const char* what) {
-    if (!p) fail(FL_ERROR_INVALID_ARGUMENT, std::string(what) + " is null");
+    if (!p) fail(ErrorCode::InvalidArgument, std::string(what) + " is null");
 }
 
 // The pools' get() throws world::InvalidHandle (FL_ERROR_INVALID_HANDLE) saying why.
@@ -201,7 +189,7 @@ void addLook(std::shared_ptr<const Look> look, fl_look* out) {
 }
 
 void checkFinite(double v, const char* what) {
-    if (!std::isfinite(v)) fail(FL_ERROR_INVALID_ARGUMENT, std::string(what) + " is not finite");
+    if (!std::isfinite(v)) fail(ErrorCode::InvalidArgument, std::string(what) + " is not finite");
 }
 
 // The header's size convention: a call with capacity 0 only asks for the size (whatever the buffer
@@ -213,23 +201,24 @@ void writeText(const std::string& text, char* buffer, size_t capacity, size_t* o
     const size_t needed = text.size() + 1;
     if (out_size) *out_size = needed;
     if (isSizeQuery(capacity)) return;
-    if (!buffer) fail(FL_ERROR_INVALID_ARGUMENT, "buffer is null");
+    if (!buffer) fail(ErrorCode::InvalidArgument, "buffer is null");
     if (capacity < needed)
-        fail(FL_ERROR_BUFFER_TOO_SMALL, "buffer holds " + std::to_string(capacity) + " bytes, " +
-                                            std::to_string(needed) + " needed");
+        fail(ErrorCode::BufferTooSmall,
+             "buffer holds " + std::to_string(capacity) + " bytes, " + std::to_string(needed) + " needed");
     std::memcpy(buffer, text.data(), text.size());
     buffer[text.size()] = '\0';
 }
 
 void checkCapacity(size_t capacity, size_t needed, const char* unit) {
     if (capacity < needed)
-        fail(FL_ERROR_BUFFER_TOO_SMALL, "buffer holds " + std::to_string(capacity) + " " + unit + ", " +
+        fail(ErrorCode::BufferTooSmall, "buffer holds " + std::to_string(capacity) + " " + unit + ", " +
                                             std::to_string(needed) + " needed");
 }
 
 int slotOrFail(const world::Package& p, int32_t frame) {
     const int slot = p.slotOf(frame);
-    if (slot < 0) fail(FL_ERROR_NOT_FOUND, p.name() + ": no frame " + std::to_string(frame) + " in the package");
+    if (slot < 0)
+        fail(ErrorCode::NotFound, p.name() + ": no frame " + std::to_string(frame) + " in the package");
     return slot;
 }
 
@@ -283,10 +272,10 @@ FIRELOOK_API fl_result fl_init(const fl_init_desc* caller) {
         std::memcpy(&version, reinterpret_cast<const char*>(caller) + offsetof(fl_init_desc, header_version),
                     sizeof version);
         if (version == 0 || version / 10000 != FIRELOOK_VERSION_MAJOR || version / 100 % 100 > FIRELOOK_VERSION_MINOR)
-            fail(FL_ERROR_VERSION_MISMATCH,
-                 "the caller was compiled against FireLook header version " + std::to_string(version) +
-                     ", this library is " + std::to_string(FIRELOOK_HEADER_VERSION) +
-                     " (same major and a minor no newer required)");
+            fail(ErrorCode::VersionMismatch, "the caller was compiled against FireLook header version " +
+                                                 std::to_string(version) + ", this library is " +
+                                                 std::to_string(FIRELOOK_HEADER_VERSION) +
+                                                 " (same major and a minor no newer required)");
         const fl_init_desc desc = readIn(caller, "desc");
         // The caller's struct sizes (IMGUI_CHECKVERSION): each at least its first published size.
         const struct {
@@ -302,14 +291,15 @@ FIRELOOK_API fl_result fl_init(const fl_init_desc* caller) {
                      {desc.sizeof_keyframe, FirstSize<fl_keyframe>::value, "fl_keyframe"}};
         for (const auto& s : sizes)
             if (s.given < s.first)
-                fail(FL_ERROR_VERSION_MISMATCH, std::string("sizeof(") + s.name + ") is " + std::to_string(s.given) +
-                                                    " in the caller, below its first published size " +
-                                                    std::to_string(s.first) + ": header and library do not match");
+                fail(ErrorCode::VersionMismatch,
+                     std::string("sizeof(") + s.name + ") is " + std::to_string(s.given) +
+                         " in the caller, below its first published size " + std::to_string(s.first) +
+                         ": header and library do not match");
         if ((desc.allocator.alloc == nullptr) != (desc.allocator.free == nullptr))
-            fail(FL_ERROR_INVALID_ARGUMENT, "allocator: set both alloc and free, or neither");
+            fail(ErrorCode::InvalidArgument, "allocator: set both alloc and free, or neither");
         Context& c = context();
         std::lock_guard lock(c.mutex);
-        if (c.initialized) fail(FL_ERROR_ALREADY_INITIALIZED, "fl_init called twice without fl_shutdown");
+        if (c.initialized) fail(ErrorCode::AlreadyInitialized, "fl_init called twice without fl_shutdown");
         c.memory = {desc.allocator.alloc, desc.allocator.free, desc.allocator.user};
         c.log = desc.log;
         c.log_user = desc.log_user;
@@ -342,7 +332,7 @@ FIRELOOK_API fl_result fl_package_load(const char* path, fl_package* out) {
         loadPackage(out, [&] {
             std::error_code ec;
             if (!std::filesystem::is_regular_file(path, ec))
-                fail(FL_ERROR_IO, std::string(path) + ": no such file (or not a regular file)");
+                fail(ErrorCode::IoError, std::string(path) + ": no such file (or not a regular file)");
             return world::Package::open(path);
         });
     });
@@ -353,13 +343,14 @@ FIRELOOK_API fl_result fl_package_load_memory(const void* data, size_t size, con
     return guarded("fl_package_load_memory", [&] {
         if (out) out->id = 0;  // 0 on every failure, the argument checks' too
         const std::string name = source_name ? source_name : "(memory)";
-        if (!data) fail(FL_ERROR_INVALID_ARGUMENT, name + ": data is null");
-        if (size == 0) fail(FL_ERROR_INVALID_ARGUMENT, name + ": size is 0");
+        if (!data) fail(ErrorCode::InvalidArgument, name + ": data is null");
+        if (size == 0) fail(ErrorCode::InvalidArgument, name + ": size is 0");
         fl_package_memory_desc d = fl_package_memory_desc_defaults();
         if (desc) d = readIn(desc, "desc");
         // Unknown bits may be a newer caller's promise this library cannot keep: refused, not ignored.
         if ((d.flags & ~uint32_t{FL_PACKAGE_MEMORY_BORROW}) != 0)
-            fail(FL_ERROR_INVALID_ARGUMENT, name + ": desc->flags has unknown bits (" + std::to_string(d.flags) + ")");
+            fail(ErrorCode::InvalidArgument,
+                 name + ": desc->flags has unknown bits (" + std::to_string(d.flags) + ")");
         const auto ownership = (d.flags & FL_PACKAGE_MEMORY_BORROW) != 0 ? package::ContainerReader::MemoryOwnership::Borrow
                                                                          : package::ContainerReader::MemoryOwnership::Copy;
         loadPackage(out, [&] {
@@ -483,8 +474,9 @@ FIRELOOK_API fl_result fl_package_get_camera(fl_package h, fl_camera* out) {
         const auto p = findPackage(h);
         const world::PackageCamera* camera = p->camera();
         if (!camera) {
-            if (!p->cameraProblem().empty()) fail(FL_ERROR_CORRUPT, p->cameraProblem());
-            fail(FL_ERROR_NOT_FOUND, p->name() + ": the package records no camera (its META has no \"camera\")");
+            if (!p->cameraProblem().empty()) fail(ErrorCode::Corrupt, p->cameraProblem());
+            fail(ErrorCode::NotFound,
+                 p->name() + ": the package records no camera (its META has no \"camera\")");
         }
         fl_camera c = {};
         c.width = camera->width;
@@ -510,8 +502,8 @@ FIRELOOK_API fl_result fl_package_get_lights(fl_package h, double* directions, f
         for (uint32_t l = 0; l < n; ++l) {
             const double length = std::sqrt(d[l].x * d[l].x + d[l].y * d[l].y + d[l].z * d[l].z);
             if (!std::isfinite(length) || !(length > 0.0))  // a guard: Package::open refuses such lights
-                fail(FL_ERROR_CORRUPT, p->name() + ": light " + std::to_string(l) +
-                                           "'s direction is zero or not finite");
+                fail(ErrorCode::Corrupt,
+                     p->name() + ": light " + std::to_string(l) + "'s direction is zero or not finite");
             for (int i = 0; i < 3; ++i) unit[3 * l + i] = d[l][i] / length;
         }
         if (directions) std::copy(unit.begin(), unit.end(), directions);
@@ -577,7 +569,7 @@ FIRELOOK_API fl_result fl_look_get_bin_emissivity(fl_look lh, fl_package ph, flo
         for (const Rgb& v : e)
             for (int c = 0; c < 3; ++c)
                 if (!std::isfinite(v[c]))  // looks are validated finite; a guard, as nothing non-finite leaves
-                    fail(FL_ERROR_LOOK, look->source_name + ": the emission is not finite at a bin centre");
+                    fail(ErrorCode::Look, look->source_name + ": the emission is not finite at a bin centre");
         for (uint32_t i = 0; i < n; ++i)
             for (int c = 0; c < 3; ++c) rgb[3 * i + c] = e[i][c];
     });
@@ -634,7 +626,7 @@ FIRELOOK_API fl_result fl_emission_preset_name(uint32_t index, char* buffer, siz
     return guarded("fl_emission_preset_name", [&] {
         const std::vector<std::string> names = presetNames();
         if (index >= names.size())
-            fail(FL_ERROR_NOT_FOUND, "no emission preset " + std::to_string(index) + " (there are " +
+            fail(ErrorCode::NotFound, "no emission preset " + std::to_string(index) + " (there are " +
                                          std::to_string(names.size()) + ")");
         writeText(names[index], buffer, capacity, out_size);
     });
@@ -654,7 +646,7 @@ FIRELOOK_API fl_result fl_package_fit_look(fl_package h, const fl_fit_desc* desc
         const int slot = slotOrFail(*p, desc.frame);
         constexpr uint32_t known = FL_FIT_HOLD_TEMPERATURE_THRESHOLD | FL_FIT_HOLD_SMOKE_EXTINCTION |
                                    FL_FIT_HOLD_FLAME_EXTINCTION | FL_FIT_OVER_BACKGROUND;
-        if (desc.flags & ~known) fail(FL_ERROR_INVALID_ARGUMENT, "desc->flags has unknown bits");
+        if (desc.flags & ~known) fail(ErrorCode::InvalidArgument, "desc->flags has unknown bits");
         checkPointer(desc.target_rgba, "desc->target_rgba");
         checkFinite(desc.smoothness, "desc->smoothness");
 
@@ -675,7 +667,7 @@ FIRELOOK_API fl_result fl_package_fit_look(fl_package h, const fl_fit_desc* desc
         const basis::ResidentFrame* frames[] = {&frame};
         const fit::FitResult r = fit::fitLook(d, frames, std::span(&target, 1), options, [&](double fraction) {
             if (desc.progress && desc.progress(fraction, desc.progress_user) != 0)
-                fail(FL_ERROR_CANCELLED, "the progress callback stopped the fit");
+                fail(ErrorCode::Cancelled, "the progress callback stopped the fit");
         });
         if (report) {
             fl_fit_report out_report{};
@@ -704,7 +696,7 @@ FIRELOOK_API fl_result fl_fit_target_load(fl_package h, const fl_fit_target_desc
         checkPointer(weights, "weights");
         checkStruct(out_info, "out_info");
         if (desc.flags & ~static_cast<uint32_t>(FL_FIT_OVER_BACKGROUND))
-            fail(FL_ERROR_INVALID_ARGUMENT, "desc->flags has bits other than FL_FIT_OVER_BACKGROUND");
+            fail(ErrorCode::InvalidArgument, "desc->flags has bits other than FL_FIT_OVER_BACKGROUND");
         checkFinite(desc.exposure, "desc->exposure");
         checkCapacity(pixel_capacity, pixels, "pixels");
         image::FitTargetRequest request;
@@ -735,9 +727,9 @@ FIRELOOK_API fl_result fl_fit_difference(const float* target_rgba, const float* 
         checkPointer(target_rgba, "target_rgba");
         checkPointer(fit_rgba, "fit_rgba");
         checkPointer(out_rgba, "out_rgba");
-        if (pixel_count == 0) fail(FL_ERROR_INVALID_ARGUMENT, "pixel_count is 0");
+        if (pixel_count == 0) fail(ErrorCode::InvalidArgument, "pixel_count is 0");
         if (flags & ~static_cast<uint32_t>(FL_FIT_OVER_BACKGROUND))
-            fail(FL_ERROR_INVALID_ARGUMENT, "flags has bits other than FL_FIT_OVER_BACKGROUND");
+            fail(ErrorCode::InvalidArgument, "flags has bits other than FL_FIT_OVER_BACKGROUND");
         const bool over = flags & FL_FIT_OVER_BACKGROUND;
         if (over) checkPointer(background, "background");
         const std::array<float, 3> bg = over ? std::array<float, 3>{background[0], background[1], background[2]}
@@ -844,7 +836,7 @@ FIRELOOK_API fl_result fl_instance_set_keyframes(fl_world w, fl_instance i, cons
     return guarded("fl_instance_set_keyframes", [&] {
         const WorldInstance wi = findInstance(w, i);
         checkPointer(keys, "keys");
-        if (count == 0) fail(FL_ERROR_INVALID_ARGUMENT, "count is 0: at least one key is required");
+        if (count == 0) fail(ErrorCode::InvalidArgument, "count is 0: at least one key is required");
         // The caller's fl_keyframe may be older or newer than ours: step by its size (fl_init's sizeof_keyframe).
         const size_t stride = context().keyframe_stride;
         const auto* bytes = reinterpret_cast<const unsigned char*>(keys);
@@ -888,11 +880,11 @@ FIRELOOK_API fl_result fl_instance_set_outputs(fl_world w, fl_instance i, const 
         const world::LensFlareSettings defaults;
         // 0 = default, negative = off (gains and counts); every value must be finite.
         const auto value = [](float given, float fallback, bool negative_is_off, const char* name) {
-            if (!std::isfinite(given)) fail(FL_ERROR_INVALID_ARGUMENT, std::string(name) + " is not finite");
+            if (!std::isfinite(given)) fail(ErrorCode::InvalidArgument, std::string(name) + " is not finite");
             if (given == 0.0f) return fallback;
             if (given < 0.0f) {
                 if (negative_is_off) return 0.0f;
-                fail(FL_ERROR_INVALID_ARGUMENT, std::string(name) + " must not be negative");
+                fail(ErrorCode::InvalidArgument, std::string(name) + " must not be negative");
             }
             return given;
         };
@@ -945,7 +937,7 @@ FIRELOOK_API fl_result fl_instance_get_coefficients(fl_world w, fl_instance i, f
         if (out_rank) *out_rank = s.rank;
         if (isSizeQuery(capacity)) return;
         checkPointer(z, "z");
-        if (!s.updated) fail(FL_ERROR_NO_DATA, "no fl_world_update since the instance was created");
+        if (!s.updated) fail(ErrorCode::NoData, "no fl_world_update since the instance was created");
         const size_t needed = static_cast<size_t>(s.rank) * 3;
         checkCapacity(capacity, needed, "floats");
         std::copy(s.z, s.z + needed, z);
@@ -960,8 +952,9 @@ fl_result copyImage(const char* function, fl_world w, fl_instance i, float* rgba
         const world::InstanceState s = wi.world.state(wi.instance);
         const float* src = flare ? s.flare : s.image;
         if (!src)
-            fail(FL_ERROR_NO_DATA, flare ? "the lens flare output is off or no update ran since it was turned on"
-                                         : "the image output is off or no update ran since it was turned on");
+            fail(ErrorCode::NoData,
+                 flare ? "the lens flare output is off or no update ran since it was turned on"
+                       : "the image output is off or no update ran since it was turned on");
         const size_t needed = static_cast<size_t>(wi.world.package(wi.instance).description().pixelCount()) * 4;
         checkCapacity(capacity, needed, "floats");
         std::copy(src, src + needed, rgba);
@@ -989,7 +982,8 @@ FIRELOOK_API fl_result fl_instance_get_look(fl_world w, fl_instance i, fl_look* 
 namespace {
 void requireSixWayLights(const world::Package& p) {
     if (p.description().six_way_first_light < 0)
-        fail(FL_ERROR_NOT_FOUND, p.name() + ": baked without six-way lights (firelook bake --lights six-way)");
+        fail(ErrorCode::NotFound,
+             p.name() + ": baked without six-way lights (firelook bake --lights six-way)");
 }
 }  // namespace
 
@@ -1023,7 +1017,7 @@ namespace {
 const basis::ResidentFrame& shownFrame(const WorldInstance& wi) {
     const basis::ResidentFrame* frame = wi.world.shownFrame(wi.instance);
     if (!frame || !frame->depth_table)
-        fail(FL_ERROR_NO_DATA, "no fl_world_update since the instance was created or its outputs were set");
+        fail(ErrorCode::NoData, "no fl_world_update since the instance was created or its outputs were set");
     return *frame;
 }
 }  // namespace
@@ -1072,15 +1066,16 @@ void writeFireLights(const world::Package& p, int slot, const Look* look, Extinc
     if (out_max_count) *out_max_count = stored;
     if (light_count == 0 && !lights) return;
     if (!table)
-        fail(FL_ERROR_NOT_FOUND, p.name() + ": frame " + std::to_string(p.frameNumber(slot)) +
-                                     " has no fire lights (baked before them)");
+        fail(ErrorCode::NotFound, p.name() + ": frame " + std::to_string(p.frameNumber(slot)) +
+                                      " has no fire lights (baked before them)");
     if (!basis::validFireLightCount(*table, static_cast<int>(light_count)))
-        fail(FL_ERROR_INVALID_ARGUMENT, "light_count " + std::to_string(light_count) +
-                                            " is not a power of two from 1 to " + std::to_string(stored));
+        fail(ErrorCode::InvalidArgument, "light_count " + std::to_string(light_count) +
+                                             " is not a power of two from 1 to " + std::to_string(stored));
     checkPointer(lights, "lights");
     if (sizeof_light < FirstSize<fl_fire_light>::value)
-        fail(FL_ERROR_STRUCT_SIZE, "sizeof_light is " + std::to_string(sizeof_light) + ", expected at least " +
-                                       std::to_string(FirstSize<fl_fire_light>::value));
+        fail(ErrorCode::StructSize, "sizeof_light is " + std::to_string(sizeof_light) +
+                                        ", expected at least " +
+                                        std::to_string(FirstSize<fl_fire_light>::value));
     checkCapacity(capacity, light_count, "lights");
     world::ResolvedLook resolved;
     if (look) {
@@ -1100,7 +1095,7 @@ void writeFireLights(const world::Package& p, int slot, const Look* look, Extinc
         v.radius = static_cast<float>(out[l].radius);
         // A guard, as nothing non-finite leaves: the table and the look are checked finite.
         for (float f : {v.intensity[0], v.intensity[1], v.intensity[2], v.radius})
-            if (!std::isfinite(f)) fail(FL_ERROR_INTERNAL, p.name() + ": a fire light is not finite");
+            if (!std::isfinite(f)) fail(ErrorCode::Internal, p.name() + ": a fire light is not finite");
         std::memcpy(reinterpret_cast<char*>(lights) + size_t{l} * sizeof_light, &v,
                     std::min<size_t>(sizeof_light, sizeof v));
     }
@@ -1125,7 +1120,7 @@ FIRELOOK_API fl_result fl_instance_get_fire_lights(fl_world w, fl_instance i, ui
     return guarded("fl_instance_get_fire_lights", [&] {
         const WorldInstance wi = findInstance(w, i);
         const world::InstanceState state = wi.world.state(wi.instance);
-        if (!state.updated) fail(FL_ERROR_NO_DATA, "no fl_world_update since the instance was created");
+        if (!state.updated) fail(ErrorCode::NoData, "no fl_world_update since the instance was created");
         const world::Package& p = wi.world.package(wi.instance);
         // The extinction and emission coefficients the update interpolated: what the image shows.
         writeFireLights(p, slotOrFail(p, state.frame), nullptr, state.extinction, state.rbf, light_count, lights,

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "basis/six_way_lights.h"
+#include "common/error.h"
 
 namespace firelook::basis {
 
@@ -59,8 +60,9 @@ BakeDescription parseBakeDescription(const std::string& json_text, const std::st
         // Version-1 packages predate the key and were baked with the range rule.
         const std::string clamp = j.value("emission_temperature_clamp", std::string("range"));
         if (clamp != "bin_centres" && clamp != "range")
-            throw std::runtime_error("emission_temperature_clamp must be \"bin_centres\" or \"range\", got \"" +
-                                     clamp + "\"");
+            throw Error(
+                ErrorCode::Corrupt,
+                "emission_temperature_clamp must be \"bin_centres\" or \"range\", got \"" + clamp + "\"");
         d.emission_clamp_to_centres = clamp == "bin_centres";
         d.albedo = j.at("albedo").get<double>();
         const json& axes = j.at("axes");
@@ -75,7 +77,8 @@ BakeDescription parseBakeDescription(const std::string& json_text, const std::st
             d.six_way_first_light = j["six_way_lights"].at("first").get<int>();
             if (d.six_way_first_light < 0 ||
                 d.six_way_first_light + kSixWayLightCount > static_cast<int>(d.light_directions.size()))
-                throw std::invalid_argument("six_way_lights.first must leave six lights after it");
+                throw Error(ErrorCode::InvalidArgument,
+                            "six_way_lights.first must leave six lights after it");
         }
         d.width = j.at("width").get<int>();
         d.height = j.at("height").get<int>();
@@ -86,18 +89,21 @@ BakeDescription parseBakeDescription(const std::string& json_text, const std::st
         // Bounds keep every size product (pixels, columns, pixels * rank) far inside 64 bits
         // and the int arithmetic of the runtime well defined, whatever a file claims.
         if (d.bins.count < 1 || d.bins.count > 256 || !(d.bins.t_hi > d.bins.t_lo))
-            throw std::invalid_argument("invalid temperature bins");
+            throw Error(ErrorCode::InvalidArgument, "invalid temperature bins");
         if (d.width < 1 || d.height < 1 || d.width > 16384 || d.height > 16384)
-            throw std::invalid_argument("image size must be 1..16384 pixels on each side");
+            throw Error(ErrorCode::InvalidArgument, "image size must be 1..16384 pixels on each side");
         if (d.axes.pointCount() > 65536 || d.light_directions.size() > 64 || d.alpha_thresholds.size() > 256)
-            throw std::invalid_argument("too many parameter samples, lights or alpha thresholds");
+            throw Error(ErrorCode::InvalidArgument, "too many parameter samples, lights or alpha thresholds");
         for (const FrameRecord& f : d.frames)
-            if (f.rank < 0 || f.rank > 4096) throw std::invalid_argument("frame rank out of range");
-        if (d.alpha_thresholds.empty()) throw std::invalid_argument("no alpha thresholds");
-        if (d.footprint_samples < 1 || d.footprint_samples > 64) throw std::invalid_argument("footprint_samples must be 1..64");
+            if (f.rank < 0 || f.rank > 4096)
+                throw Error(ErrorCode::InvalidArgument, "frame rank out of range");
+        if (d.alpha_thresholds.empty()) throw Error(ErrorCode::InvalidArgument, "no alpha thresholds");
+        if (d.footprint_samples < 1 || d.footprint_samples > 64)
+            throw Error(ErrorCode::InvalidArgument, "footprint_samples must be 1..64");
         return d;
     } catch (const std::exception& e) {
-        throw std::runtime_error(source + ": invalid bake description: " + e.what());
+        // Ours and nlohmann-json's alike: whatever the description holds came from the file.
+        throw Error(ErrorCode::Corrupt, source + ": invalid bake description: " + e.what());
     }
 }
 

@@ -50,7 +50,7 @@ struct BakeDescription : BasisModel {
     const FrameRecord* findFrame(int frame) const;
 };
 
-// JSON of the "bake" object; parse errors throw std::runtime_error naming `source`.
+// JSON of the "bake" object; parse errors throw a Corrupt Error naming `source`.
 std::string bakeDescriptionToJson(const BakeDescription& description);
 BakeDescription parseBakeDescription(const std::string& json_text, const std::string& source);
 

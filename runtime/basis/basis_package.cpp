@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "common/error.h"
+
 namespace firelook::basis {
 namespace {
 
@@ -14,14 +16,16 @@ template <typename T>
 std::vector<T> readArray(const package::ContainerReader& reader, uint32_t type, int frame, size_t expected_count) {
     const package::SectionInfo* section = reader.find(type, static_cast<uint32_t>(frame));
     if (!section)
-        throw std::runtime_error(reader.file().string() + ": frame " + std::to_string(frame) + " has no " +
-                                 std::string(reinterpret_cast<const char*>(&type), 4) + " section");
+        throw Error(ErrorCode::Corrupt,
+                    reader.file().string() + ": frame " + std::to_string(frame) + " has no " +
+                        std::string(reinterpret_cast<const char*>(&type), 4) + " section");
     const std::vector<std::byte> raw = reader.read(*section);
     if (raw.size() != expected_count * sizeof(T))
-        throw std::runtime_error(reader.file().string() + ": frame " + std::to_string(frame) + " section " +
-                                 std::string(reinterpret_cast<const char*>(&type), 4) + " holds " +
-                                 std::to_string(raw.size()) + " bytes, expected " +
-                                 std::to_string(expected_count * sizeof(T)));
+        throw Error(ErrorCode::Corrupt, reader.file().string() + ": frame " + std::to_string(frame) +
+                                            " section " +
+                                            std::string(reinterpret_cast<const char*>(&type), 4) + " holds " +
+                                            std::to_string(raw.size()) + " bytes, expected " +
+                                            std::to_string(expected_count * sizeof(T)));
     std::vector<T> out(expected_count);
     if (!raw.empty()) std::memcpy(out.data(), raw.data(), raw.size());
     return out;
@@ -35,8 +39,9 @@ float finiteOr(float v, float fallback) { return std::isfinite(v) ? v : fallback
 const package::SectionInfo& frameSection(const package::ContainerReader& reader, uint32_t type, int frame) {
     const package::SectionInfo* section = reader.find(type, static_cast<uint32_t>(frame));
     if (!section)
-        throw std::runtime_error(reader.file().string() + ": frame " + std::to_string(frame) + " has no " +
-                                 std::string(reinterpret_cast<const char*>(&type), 4) + " section");
+        throw Error(ErrorCode::Corrupt,
+                    reader.file().string() + ": frame " + std::to_string(frame) + " has no " +
+                        std::string(reinterpret_cast<const char*>(&type), 4) + " section");
     return *section;
 }
 
@@ -119,21 +124,24 @@ BasisReader BasisReader::openMemory(std::span<const std::byte> bytes,
 BasisReader BasisReader::fromReader(package::ContainerReader reader) {
     const std::filesystem::path file = reader.file();
     const std::optional<std::string> metadata = reader.metadata();
-    if (!metadata) throw std::runtime_error(file.string() + ": package has no metadata (META) section");
+    if (!metadata)
+        throw Error(ErrorCode::Corrupt, file.string() + ": package has no metadata (META) section");
     std::string bake_json;
     int layout = 1;
     try {
         const nlohmann::json doc = nlohmann::json::parse(*metadata);
         if (doc.value("format", std::string()) != "firelook-basis")
-            throw std::runtime_error("metadata format is not firelook-basis");
+            throw Error(ErrorCode::Corrupt, "metadata format is not firelook-basis");
         layout = doc.value("version", 1);
         if (layout < 1 || layout > kBasisLayoutVersion)
-            throw std::runtime_error("basis layout version " + std::to_string(layout) +
-                                     " is not one this build reads (1 to " + std::to_string(kBasisLayoutVersion) +
-                                     ")");
+            throw Error(ErrorCode::UnsupportedFeature, "basis layout version " + std::to_string(layout) +
+                                                           " is not one this build reads (1 to " +
+                                                           std::to_string(kBasisLayoutVersion) + ")");
         bake_json = doc.at("bake").dump();
-    } catch (const std::exception& e) {
-        throw std::runtime_error(file.string() + ": invalid metadata: " + e.what());
+    } catch (const Error& e) {
+        throw Error(e.code(), file.string() + ": invalid metadata: " + e.what());
+    } catch (const std::exception& e) {  // nlohmann-json's: the metadata is not the JSON it should be
+        throw Error(ErrorCode::Corrupt, file.string() + ": invalid metadata: " + e.what());
     }
     BakeDescription description = parseBakeDescription(bake_json, file.string());
     return BasisReader(std::move(reader), std::move(description), *metadata, layout);
@@ -141,7 +149,9 @@ BasisReader BasisReader::fromReader(package::ContainerReader reader) {
 
 const FrameRecord& BasisReader::record(int frame) const {
     const FrameRecord* record = description_.findFrame(frame);
-    if (!record) throw std::runtime_error(file().string() + ": no frame " + std::to_string(frame) + " in the package");
+    if (!record)
+        throw Error(ErrorCode::NotFound,
+                    file().string() + ": no frame " + std::to_string(frame) + " in the package");
     return *record;
 }
 

@@ -55,7 +55,7 @@ struct FrameReadBuffers {
 
 class BasisReader {
 public:
-    // Throws package::PackageError or std::runtime_error naming the file.
+    // Throws firelook::Error (package::PackageError's codes, Corrupt, NotFound) naming the file.
     static BasisReader open(const std::filesystem::path& file);
     // The same from a package held in memory (package::ContainerReader::openMemory: a borrowed buffer
     // must be 64-byte aligned and outlive the BasisReader unchanged); `name` stands for the file.
@@ -77,7 +77,7 @@ public:
     // (frame_codec.h): what a streaming runtime does, with no allocation once warm.
     void loadResidentFrame(int frame, ResidentFrame& out, FrameReadBuffers& buffers) const;
     // The frame's fire lights (fire_lights.h), or nothing when the package has none for it (packages
-    // baked before them). Throws std::runtime_error naming the file and frame for a damaged section.
+    // baked before them). Throws a Corrupt Error naming the file and frame for a damaged section.
     std::optional<FireLightTable> loadFireLights(int frame) const;
 
 private:

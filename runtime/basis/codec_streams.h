@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "common/error.h"
+
 namespace firelook::basis::codec {
 
 // Payload version: 3 leaves out the items that are all zero (most pixels lie outside the fire's
@@ -63,7 +65,9 @@ class ByteReader {
     void expectEnd() const {
         if (at_ != bytes_.size()) fail("has " + std::to_string(bytes_.size() - at_) + " bytes too many");
     }
-    [[noreturn]] void fail(const std::string& problem) const { throw std::runtime_error(what_ + " " + problem); }
+    [[noreturn]] void fail(const std::string& problem) const {
+        throw Error(ErrorCode::Corrupt, what_ + " " + problem);
+    }
 
   private:
     std::span<const std::byte> bytes_;

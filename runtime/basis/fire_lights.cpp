@@ -7,6 +7,8 @@
 #include <glm/geometric.hpp>
 #include <stdexcept>
 
+#include "common/error.h"
+
 namespace firelook::basis {
 namespace {
 
@@ -57,7 +59,9 @@ std::vector<std::byte> encodeFireLights(const FireLightTable& t) {
 }
 
 FireLightTable decodeFireLights(std::span<const std::byte> bytes, int points, int bins, const std::string& where) {
-    const auto fail = [&](const std::string& what) { throw std::runtime_error(where + ": fire lights " + what); };
+    const auto fail = [&](const std::string& what) {
+        throw Error(ErrorCode::Corrupt, where + ": fire lights " + what);
+    };
     if (bytes.size() < kHeaderBytes) fail("section is " + std::to_string(bytes.size()) + " bytes, too short");
     size_t at = 0;
     const uint32_t version = get<uint32_t>(bytes, at);

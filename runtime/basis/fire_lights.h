@@ -59,7 +59,7 @@ FireLightTable emptyFireLightTable(int clusters, int points, int bins, float ext
 // The FLIT payload: u32 version, u32 clusters, u32 points, u32 bins, f32 extinction_scale, u32 0,
 // f64 reference[clusters][3], f32 moments[clusters][points][bins][5]; little-endian.
 std::vector<std::byte> encodeFireLights(const FireLightTable& table);
-// Throws std::runtime_error starting with `where` (the file and frame) for a payload of the wrong
+// Throws a Corrupt Error starting with `where` (the file and frame) for a payload of the wrong
 // size or version, a shape other than (points, bins), or a value that is not finite, or a power
 // or second moment below 0.
 FireLightTable decodeFireLights(std::span<const std::byte> bytes, int points, int bins, const std::string& where);

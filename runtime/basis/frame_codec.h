@@ -62,7 +62,7 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
 
 // The resident form of a frame (resident_frame.h), its memory from `memory`; `table` is reused
 // when the frame's depth grid is the same (else a new one is built). Reads payload versions 1
-// to 3. Throws std::runtime_error (naming `source` and the frame) when a payload does not match
+// to 3. Throws a Corrupt Error (naming `source` and the frame) when a payload does not match
 // the description or is damaged.
 ResidentFrame decodeResidentFrame(const BakeDescription& description, int frame, int rank,
                                   std::span<const std::byte> u, std::span<const std::byte> svt,

@@ -1,6 +1,4 @@
 // The frame codec's encoder (frame_codec.h): quantises, predicts and writes the three payloads.
-#include "basis/frame_codec.h"
-
 #include <algorithm>
 #include <cmath>
 #include <glm/gtc/packing.hpp>
@@ -9,8 +7,10 @@
 
 #include "basis/codec_streams.h"
 #include "basis/depth_companding.h"
+#include "basis/frame_codec.h"
 #include "basis/ray_lattice.h"
 #include "basis/source_balance.h"
+#include "common/error.h"
 
 namespace firelook::basis {
 namespace {
@@ -102,10 +102,10 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
     if (factors.pixels != static_cast<int>(pixels) || rank < 0 || factors.u_half.size() != pixels * rank ||
         factors.svt.size() != static_cast<size_t>(description.columnCount()) * rank || samples < 1 ||
         thresholds == 0 || factors.depth_b.size() != rays || factors.depth_a.size() != rays * thresholds)
-        throw std::invalid_argument("frame " + std::to_string(factors.frame) +
-                                    ": factor sizes do not match the description");
+        throw Error(ErrorCode::InvalidArgument,
+                    "frame " + std::to_string(factors.frame) + ": factor sizes do not match the description");
     if (!(settings.alpha_error > 0.0) || !(settings.basis_error > 0.0))
-        throw std::invalid_argument("frame codec: error bounds must be positive");
+        throw Error(ErrorCode::InvalidArgument, "frame codec: error bounds must be positive");
     EncodedFrame out;
 
     // Both factors are measured on the basis with its sources balanced, B D (basis/source_balance.h).

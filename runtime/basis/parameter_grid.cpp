@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/error.h"
+
 namespace firelook::basis {
 namespace {
 
@@ -86,12 +88,15 @@ AxisWeights axisWeights(const std::vector<double>& x_s, double x) {
 }
 
 void validateAxis(const std::vector<double>& samples, const char* name) {
-    if (samples.empty()) throw std::invalid_argument(std::string("parameter axis ") + name + " has no samples");
+    if (samples.empty())
+        throw Error(ErrorCode::InvalidArgument, std::string("parameter axis ") + name + " has no samples");
     for (size_t i = 0; i < samples.size(); ++i) {
         if (!std::isfinite(samples[i]))
-            throw std::invalid_argument(std::string("parameter axis ") + name + " has a non-finite sample");
+            throw Error(ErrorCode::InvalidArgument,
+                        std::string("parameter axis ") + name + " has a non-finite sample");
         if (i > 0 && !(samples[i] > samples[i - 1]))
-            throw std::invalid_argument(std::string("parameter axis ") + name + " is not strictly increasing");
+            throw Error(ErrorCode::InvalidArgument,
+                        std::string("parameter axis ") + name + " is not strictly increasing");
     }
 }
 

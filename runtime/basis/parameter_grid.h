@@ -55,7 +55,7 @@ struct GridWeights {
 // axis's range is clamped to its ends (the baked range is what the package can reproduce).
 GridWeights interpolationWeights(const ParameterAxes& axes, const ExtinctionParams& theta);
 
-// Throws std::invalid_argument naming the axis if it is empty, unsorted or non-finite.
+// Throws an InvalidArgument Error naming the axis if it is empty, unsorted or non-finite.
 void validateAxes(const ParameterAxes& axes);
 
 }  // namespace firelook::basis

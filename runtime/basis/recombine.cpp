@@ -10,6 +10,7 @@
 #include "basis/coefficients.h"
 #include "basis/parameter_grid.h"
 #include "basis/simd.h"
+#include "common/error.h"
 
 namespace firelook::basis {
 
@@ -20,17 +21,17 @@ void computeCoefficients(const BakeDescription& description, const ResidentFrame
     const int bins = description.bins.count;
     const int lights = static_cast<int>(description.light_directions.size());
     if (static_cast<int>(look.rbf_coefficients.size()) != bins)
-        throw std::invalid_argument("look has " + std::to_string(look.rbf_coefficients.size()) +
-                                    " emission coefficients, the package has " + std::to_string(bins) +
-                                    " bins");
+        throw Error(ErrorCode::InvalidArgument, "look has " + std::to_string(look.rbf_coefficients.size()) +
+                                                    " emission coefficients, the package has " +
+                                                    std::to_string(bins) + " bins");
     if (static_cast<int>(look.light_irradiance.size()) != lights)
-        throw std::invalid_argument("look has " + std::to_string(look.light_irradiance.size()) +
-                                    " light irradiances, the package has " + std::to_string(lights) +
-                                    " lights");
+        throw Error(ErrorCode::InvalidArgument, "look has " + std::to_string(look.light_irradiance.size()) +
+                                                    " light irradiances, the package has " +
+                                                    std::to_string(lights) + " lights");
     if (static_cast<int>(z_out.size()) < rank * 3)
-        throw std::invalid_argument("coefficient output too short");
+        throw Error(ErrorCode::InvalidArgument, "coefficient output too short");
     if (svt.size() < static_cast<size_t>(description.columnCount()) * std::max(rank, 0))
-        throw std::invalid_argument("S V^T too short for the description");
+        throw Error(ErrorCode::InvalidArgument, "S V^T too short for the description");
 
     coefficientKernel(description, svt.data(), rank, look.extinction, look.rbf_coefficients.data(),
                       look.light_irradiance.data(), z_out.data());
@@ -237,7 +238,7 @@ void checkResident(const BakeDescription& description, const ResidentFrame& f) {
         f.samples != description.footprint_samples ||
         f.detailed_depth.size() < f.detailed_pixels.size() * f.samples * f.depth_stride || !f.depth_table ||
         f.depth_table->depth.empty())
-        throw std::invalid_argument("resident frame does not match the description");
+        throw Error(ErrorCode::InvalidArgument, "resident frame does not match the description");
 }
 
 }  // namespace
@@ -245,7 +246,7 @@ void checkResident(const BakeDescription& description, const ResidentFrame& f) {
 float pixelAlpha(const BakeDescription& description, const ResidentFrame& frame, int pixel,
                  const ExtinctionParams& extinction) {
     checkResident(description, frame);
-    if (pixel < 0 || pixel >= frame.pixels) throw std::invalid_argument("pixel out of range");
+    if (pixel < 0 || pixel >= frame.pixels) throw Error(ErrorCode::InvalidArgument, "pixel out of range");
     float alpha[8];
     residentAlphaSpan(residentAlphaPlan(description, frame, extinction), frame, static_cast<size_t>(pixel), 1, alpha);
     return alpha[0];
@@ -256,9 +257,11 @@ void reconstructImage(const BakeDescription& description, const ResidentFrame& f
     checkResident(description, frame);
     const size_t pixels = static_cast<size_t>(frame.pixels);
     const int rank = frame.rank;
-    if (rgba_out.size() < pixels * 4) throw std::invalid_argument("image output too short");
-    if (static_cast<int>(z.size()) < rank * 3) throw std::invalid_argument("coefficients too short");
-    if (rank > kMaxVectorRank) throw std::invalid_argument("rank above " + std::to_string(kMaxVectorRank));
+    if (rgba_out.size() < pixels * 4) throw Error(ErrorCode::InvalidArgument, "image output too short");
+    if (static_cast<int>(z.size()) < rank * 3)
+        throw Error(ErrorCode::InvalidArgument, "coefficients too short");
+    if (rank > kMaxVectorRank)
+        throw Error(ErrorCode::InvalidArgument, "rank above " + std::to_string(kMaxVectorRank));
     const ResidentAlphaPlan alpha_plan = residentAlphaPlan(description, frame, extinction);
     // z scaled by U's column scales (U = W u_scale), in 8-lane blocks per channel; 0 past the rank.
     constexpr int kMaxBlocks = kMaxVectorRank / 8;

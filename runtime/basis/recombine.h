@@ -20,7 +20,7 @@ struct LookWeights {
     std::span<const Rgb> light_irradiance;  // E_l per baked light
 };
 
-// z_out: rank x 3, z_out[k * 3 + channel]. Throws std::invalid_argument when the
+// z_out: rank x 3, z_out[k * 3 + channel]. Throws an InvalidArgument Error when the
 // spans do not match the description (wrong bin or light count, short output).
 void computeCoefficients(const BakeDescription& description, const ResidentFrame& frame, const LookWeights& look,
                          std::span<float> z_out);
@@ -28,7 +28,7 @@ void computeCoefficients(const BakeDescription& description, const ResidentFrame
 // rgba_out: pixels x 4, premultiplied linear RGBA, top row first. U is read as its int16 grid
 // values (z scaled by the column scales instead), alpha from the depth codes through the frame's
 // DepthTable. Negative radiance (truncation ringing) is clamped to 0 and a non-finite value can
-// never be written; alpha is in [0, 1]. Throws std::invalid_argument when the frame does not match
+// never be written; alpha is in [0, 1]. Throws an InvalidArgument Error when the frame does not match
 // the description, a span is too short or the rank is above 1024. Vectorised (AVX2 where the CPU
 // has it), single-threaded; alpha's exp is a polynomial, alpha within 1e-7 of the exact value
 // (see recombine.cpp).
@@ -37,7 +37,7 @@ void reconstructImage(const BakeDescription& description, const ResidentFrame& f
 
 // alpha = mean over the footprint rays of 1 - exp(-(a O_a(T_c) + b O_b)) for one pixel; O_a
 // interpolated linearly in T_c between the alpha threshold samples. Bit for bit the alpha
-// reconstructImage writes. Throws std::invalid_argument for a pixel out of range or a frame that
+// reconstructImage writes. Throws an InvalidArgument Error for a pixel out of range or a frame that
 // does not match the description.
 float pixelAlpha(const BakeDescription& description, const ResidentFrame& frame, int pixel,
                  const ExtinctionParams& extinction);

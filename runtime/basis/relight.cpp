@@ -2,26 +2,28 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <stdexcept>
 #include <string>
 
-#include <glm/geometric.hpp>
+#include "common/error.h"
 
 namespace firelook::basis {
 
 glm::dvec3 checkedUnitDirection(const RunTimeLight& light) {
     const double length = glm::length(light.direction);
     if (!std::isfinite(length) || !(length > 0.0))
-        throw std::invalid_argument("the light direction must be finite and non-zero");
+        throw Error(ErrorCode::InvalidArgument, "the light direction must be finite and non-zero");
     for (int c = 0; c < 3; ++c)
         if (!std::isfinite(light.irradiance[c]) || light.irradiance[c] < 0.0f)
-            throw std::invalid_argument("the light's irradiance must be finite and >= 0");
+            throw Error(ErrorCode::InvalidArgument, "the light's irradiance must be finite and >= 0");
     return light.direction / length;
 }
 
 std::array<double, kSixWayLightCount> relightWeights(std::span<const glm::dvec3, kSixWayLightCount> six_way,
                                                      const glm::dvec3& direction, double exponent) {
-    if (!(exponent > 0.0)) throw std::invalid_argument("the relighting exponent must be positive");
+    if (!(exponent > 0.0))
+        throw Error(ErrorCode::InvalidArgument, "the relighting exponent must be positive");
     const glm::dvec3 d = checkedUnitDirection({direction, Rgb(0.0f)});
     std::array<double, kSixWayLightCount> w{};
     double sum = 0.0;
@@ -37,9 +39,10 @@ std::array<double, kSixWayLightCount> relightWeights(std::span<const glm::dvec3,
 std::array<Rgb, kSixWayLightCount> relightIrradiance(const BakeDescription& d, const RunTimeLight& light,
                                                      const std::string& package_name) {
     if (d.six_way_first_light < 0)
-        throw std::invalid_argument(package_name +
-                                    ": baked without six-way lights; a light direction chosen at run time needs a "
-                                    "bake with --lights six-way");
+        throw Error(ErrorCode::InvalidArgument,
+                    package_name +
+                        ": baked without six-way lights; a light direction chosen at run time needs a "
+                        "bake with --lights six-way");
     const glm::dvec3 direction = checkedUnitDirection(light);
     const std::span<const glm::dvec3, kSixWayLightCount> six_way(
         d.light_directions.data() + d.six_way_first_light, kSixWayLightCount);
@@ -53,8 +56,9 @@ void applyRunTimeLight(const BakeDescription& d, const RunTimeLight& light, cons
                        std::span<Rgb> light_irradiance) {
     const std::array<Rgb, kSixWayLightCount> six = relightIrradiance(d, light, package_name);
     if (light_irradiance.size() != d.light_directions.size())
-        throw std::invalid_argument(package_name + ": " + std::to_string(light_irradiance.size()) +
-                                    " light irradiances for " + std::to_string(d.light_directions.size()) + " lights");
+        throw Error(ErrorCode::InvalidArgument,
+                    package_name + ": " + std::to_string(light_irradiance.size()) +
+                        " light irradiances for " + std::to_string(d.light_directions.size()) + " lights");
     std::copy(six.begin(), six.end(), light_irradiance.begin() + d.six_way_first_light);
 }
 

@@ -31,18 +31,18 @@ struct RunTimeLight {
     Rgb irradiance{1.0f};
 };
 
-// The light's unit direction. std::invalid_argument when its direction is not finite or has zero
+// The light's unit direction. An InvalidArgument Error when its direction is not finite or has zero
 // length, or its irradiance is not finite or is negative.
 glm::dvec3 checkedUnitDirection(const RunTimeLight& light);
 
 // The weights above for the six travel directions `six_way` (unit vectors) and d = `direction`.
-// std::invalid_argument when the direction is not finite or has zero length, or exponent <= 0.
+// An InvalidArgument Error when the direction is not finite or has zero length, or exponent <= 0.
 std::array<double, kSixWayLightCount> relightWeights(std::span<const glm::dvec3, kSixWayLightCount> six_way,
                                                      const glm::dvec3& direction,
                                                      double exponent = kRelightExponent);
 
 // The six-way lights' irradiance that stands for `light`: w_i(d) * irradiance, in the six-way order.
-// std::invalid_argument when the package has no six-way lights (the message names `package_name`)
+// An InvalidArgument Error when the package has no six-way lights (the message names `package_name`)
 // or the light is not finite, has a zero direction or a negative irradiance.
 std::array<Rgb, kSixWayLightCount> relightIrradiance(const BakeDescription& description, const RunTimeLight& light,
                                                      const std::string& package_name);

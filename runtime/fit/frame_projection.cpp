@@ -7,6 +7,7 @@
 
 #include "basis/parameter_grid.h"
 #include "basis/recombine.h"
+#include "common/error.h"
 
 namespace firelook::fit {
 
@@ -20,17 +21,20 @@ FrameProjection::FrameProjection(const basis::BakeDescription& description, cons
     : description_(description), frame_(frame), target_(target), rank_(frame.rank) {
     const int pixels = description.pixelCount();
     const std::string where = "frame " + std::to_string(target.frame) + " target: ";
-    if (frame.pixels != pixels) throw std::invalid_argument(where + "the frame's pixel count differs from the package's");
+    if (frame.pixels != pixels)
+        throw Error(ErrorCode::InvalidArgument, where + "the frame's pixel count differs from the package's");
     if (target.rgba.size() != static_cast<size_t>(pixels) * 4)
-        throw std::invalid_argument(where + std::to_string(target.rgba.size() / 4) + " pixels, the package's images have " +
-                                    std::to_string(pixels) + " (" + std::to_string(description.width) + "x" +
-                                    std::to_string(description.height) + ")");
+        throw Error(ErrorCode::InvalidArgument,
+                    where + std::to_string(target.rgba.size() / 4) + " pixels, the package's images have " +
+                        std::to_string(pixels) + " (" + std::to_string(description.width) + "x" +
+                        std::to_string(description.height) + ")");
     if (!target.weight.empty() && target.weight.size() != static_cast<size_t>(pixels))
-        throw std::invalid_argument(where + "the mask has " + std::to_string(target.weight.size()) +
-                                    " pixels, the package's images have " + std::to_string(pixels));
+        throw Error(ErrorCode::InvalidArgument,
+                    where + "the mask has " + std::to_string(target.weight.size()) +
+                        " pixels, the package's images have " + std::to_string(pixels));
     for (int c = 0; c < 3; ++c)
         if (!std::isfinite(target.background[c]) || target.background[c] < 0.0f)
-            throw std::invalid_argument(where + "the background must be finite and >= 0");
+            throw Error(ErrorCode::InvalidArgument, where + "the background must be finite and >= 0");
     has_background_ = !target.match_alpha && (target.background.r > 0.0f || target.background.g > 0.0f ||
                                               target.background.b > 0.0f);
     needs_alpha_ = target.match_alpha || has_background_;
@@ -41,10 +45,12 @@ FrameProjection::FrameProjection(const basis::BakeDescription& description, cons
     const size_t stride = static_cast<size_t>(frame.rank_stride);
     for (int p = 0; p < pixels; ++p) {
         const float w = target.weight.empty() ? 1.0f : target.weight[p];
-        if (!std::isfinite(w) || w < 0.0f) throw std::invalid_argument(where + "mask weight of " + pixelName(p) + " is not a finite value >= 0");
+        if (!std::isfinite(w) || w < 0.0f)
+            throw Error(ErrorCode::InvalidArgument,
+                        where + "mask weight of " + pixelName(p) + " is not a finite value >= 0");
         for (int c = 0; c < 4; ++c)
             if (!std::isfinite(target.rgba[4 * static_cast<size_t>(p) + c]))
-                throw std::invalid_argument(where + pixelName(p) + " is not finite");
+                throw Error(ErrorCode::InvalidArgument, where + pixelName(p) + " is not finite");
         if (w == 0.0f) continue;
         pixels_.push_back(p);
         weights_.push_back(w);
@@ -88,7 +94,8 @@ FrameProjection::FrameProjection(const basis::BakeDescription& description, cons
 void FrameProjection::accumulate(const ExtinctionParams& theta, NormalEquations& eq) {
     const int n = eq.n;
     const size_t r = static_cast<size_t>(rank_);
-    if (n != description_.columnsPerPoint()) throw std::invalid_argument("normal equations sized for another package");
+    if (n != description_.columnsPerPoint())
+        throw Error(ErrorCode::InvalidArgument, "normal equations sized for another package");
 
     // Alpha at theta: the runtime's reconstruction with z = 0 (colour 0, alpha exact).
     if (needs_alpha_) basis::reconstructImage(description_, frame_, zero_z_, theta, rgba_);

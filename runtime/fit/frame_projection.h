@@ -32,7 +32,7 @@ struct NormalEquations {
 
 class FrameProjection {
   public:
-    // Throws std::invalid_argument when the target's size differs from the description's image,
+    // Throws an InvalidArgument Error when the target's size differs from the description's image,
     // a weight is negative or not finite, or a target value is not finite (naming the pixel).
     FrameProjection(const basis::BakeDescription& description, const basis::ResidentFrame& frame,
                     const FrameTarget& target);

@@ -4,13 +4,14 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "common/error.h"
 #include "look/detail/non_negative_least_squares.h"
 
 namespace firelook::fit {
 
 std::vector<double> solveGramNnls(std::span<const double> gram, std::span<const double> b, int n) {
     if (n < 0 || gram.size() < static_cast<size_t>(n) * n || b.size() < static_cast<size_t>(n))
-        throw std::invalid_argument("solveGramNnls: spans shorter than n");
+        throw Error(ErrorCode::InvalidArgument, "solveGramNnls: spans shorter than n");
     std::vector<double> x(n, 0.0);
     double max_diagonal = 0.0;
     for (int i = 0; i < n; ++i) max_diagonal = std::max(max_diagonal, gram[i * n + i]);

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "basis/look_renderer.h"
+#include "common/error.h"
 #include "fit/frame_projection.h"
 #include "fit/gram_nnls.h"
 
@@ -44,9 +45,9 @@ SearchAxis makeAxis(const std::vector<double>& samples, const std::optional<doub
     if (held) {
         if (!std::isfinite(*held) || *held < samples.front() - 1e-9 * std::abs(samples.front()) ||
             *held > samples.back() + 1e-9 * std::abs(samples.back()))
-            throw std::invalid_argument(std::string(name) + " = " + std::to_string(*held) +
-                                        " is outside the baked range [" + std::to_string(samples.front()) + ", " +
-                                        std::to_string(samples.back()) + "]");
+            throw Error(ErrorCode::InvalidArgument,
+                        std::string(name) + " = " + std::to_string(*held) + " is outside the baked range [" +
+                            std::to_string(samples.front()) + ", " + std::to_string(samples.back()) + "]");
         axis.held_u = axis.coordinate(std::clamp(*held, samples.front(), samples.back()));
     }
     axis.searched = !held && samples.size() > 1;
@@ -199,14 +200,16 @@ std::vector<FrameFitError> measureLook(const basis::BakeDescription& description
                                        std::span<const basis::ResidentFrame* const> frames,
                                        std::span<const FrameTarget> targets, const Look& look,
                                        std::vector<std::vector<float>>* images_out) {
-    if (frames.size() != targets.size()) throw std::invalid_argument("measureLook: one frame per target");
+    if (frames.size() != targets.size())
+        throw Error(ErrorCode::InvalidArgument, "measureLook: one frame per target");
     std::vector<FrameFitError> errors;
     if (images_out) images_out->clear();
     const size_t pixels = static_cast<size_t>(description.pixelCount());
     for (size_t f = 0; f < frames.size(); ++f) {
         const FrameTarget& target = targets[f];
         if (target.rgba.size() != pixels * 4 || (!target.weight.empty() && target.weight.size() != pixels))
-            throw std::invalid_argument("frame " + std::to_string(target.frame) + " target: size differs from the package's images");
+            throw Error(ErrorCode::InvalidArgument, "frame " + std::to_string(target.frame) +
+                                                        " target: size differs from the package's images");
         std::vector<float> image(pixels * 4);
         basis::renderLookImage(description, *frames[f], look, image);
         FrameFitError e;
@@ -260,11 +263,12 @@ FitResult fitLook(const basis::BakeDescription& description, std::span<const bas
                   std::span<const FrameTarget> targets, const FitOptions& options,
                   const std::function<void(double)>& progress) {
     if (frames.empty() || frames.size() != targets.size())
-        throw std::invalid_argument("fitLook: one resident frame per target, at least one");
+        throw Error(ErrorCode::InvalidArgument, "fitLook: one resident frame per target, at least one");
     if (!(options.smoothness >= 0.0) || !std::isfinite(options.smoothness) || !(options.alpha_weight >= 0.0) ||
         !std::isfinite(options.alpha_weight) || options.starts < 1 || !(options.step_tolerance > 0.0))
-        throw std::invalid_argument("fitLook: smoothness and alpha_weight must be finite and >= 0, starts >= 1, "
-                                    "step_tolerance > 0");
+        throw Error(ErrorCode::InvalidArgument,
+                    "fitLook: smoothness and alpha_weight must be finite and >= 0, starts >= 1, "
+                    "step_tolerance > 0");
     const auto report = [&](double fraction) {
         if (progress) progress(std::clamp(fraction, 0.0, 1.0));
     };
@@ -279,8 +283,9 @@ FitResult fitLook(const basis::BakeDescription& description, std::span<const bas
     projections.reserve(frames.size());
     for (size_t f = 0; f < frames.size(); ++f) {
         if (frames[f]->frame != targets[f].frame)
-            throw std::invalid_argument("fitLook: target for frame " + std::to_string(targets[f].frame) +
-                                        " paired with resident frame " + std::to_string(frames[f]->frame));
+            throw Error(ErrorCode::InvalidArgument,
+                        "fitLook: target for frame " + std::to_string(targets[f].frame) +
+                            " paired with resident frame " + std::to_string(frames[f]->frame));
         projections.emplace_back(description, *frames[f], targets[f]);
         report(0.05 * (f + 1) / frames.size());
     }
@@ -288,7 +293,8 @@ FitResult fitLook(const basis::BakeDescription& description, std::span<const bas
     double total_weight = 0.0;
     for (const FrameProjection& p : projections) total_weight += p.totalWeight();
     if (!(total_weight > 0.0))
-        throw std::invalid_argument("fitLook: no target pixel has a weight above 0 (an empty mask?): nothing to fit");
+        throw Error(ErrorCode::InvalidArgument,
+                    "fitLook: no target pixel has a weight above 0 (an empty mask?): nothing to fit");
     Objective objective(description, projections, options, axes);
 
     // Coarse: every grid point of the searched axes (25% of the progress).

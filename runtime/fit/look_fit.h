@@ -64,7 +64,7 @@ struct FitResult {
 
 // frames[i] is the resident form of targets[i].frame (BasisReader::loadResidentFrame). `progress`,
 // if given, is called with the fraction done at least every few milliseconds of work; an exception
-// it throws (an interrupt) propagates with nothing left behind. Throws std::invalid_argument for
+// it throws (an interrupt) propagates with nothing left behind. Throws an InvalidArgument Error for
 // targets that do not fit the package (size, counts, a non-finite value, a fixed value outside
 // its axis, no frame, every pixel's weight 0), naming the frame and the problem.
 FitResult fitLook(const basis::BakeDescription& description, std::span<const basis::ResidentFrame* const> frames,

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/error.h"
+
 namespace firelook::flipbook {
 namespace {
 
@@ -29,15 +31,17 @@ Normalisation normalisationFor(const std::vector<FrameLayers>& frames, bool to_u
 
 image::ImageRGBA packAtlas(const AtlasSpec& spec, const std::vector<FrameLayers>& frames, int columns, int rows,
                            const Normalisation& normalisation) {
-    if (frames.empty()) throw std::invalid_argument("no frames to pack");
+    if (frames.empty()) throw Error(ErrorCode::InvalidArgument, "no frames to pack");
     if (columns < 1 || rows < 1 || static_cast<std::size_t>(columns) * rows < frames.size())
-        throw std::invalid_argument(std::to_string(frames.size()) + " frames do not fit a " + std::to_string(columns) +
-                                    "x" + std::to_string(rows) + " grid");
+        throw Error(ErrorCode::InvalidArgument, std::to_string(frames.size()) + " frames do not fit a " +
+                                                    std::to_string(columns) + "x" + std::to_string(rows) +
+                                                    " grid");
     const int w = frames.front().width, h = frames.front().height;
     image::ImageRGBA atlas(w * columns, h * rows);
     for (std::size_t k = 0; k < frames.size(); ++k) {
         const FrameLayers& f = frames[k];
-        if (f.width != w || f.height != h) throw std::invalid_argument("frames of different sizes");
+        if (f.width != w || f.height != h)
+            throw Error(ErrorCode::InvalidArgument, "frames of different sizes");
         const int x0 = static_cast<int>(k % columns) * w, y0 = static_cast<int>(k / columns) * h;
         for (int c = 0; c < 4; ++c) {
             const Layer layer = spec.channels[c];

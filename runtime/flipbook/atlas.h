@@ -21,7 +21,7 @@ struct Normalisation {
 // brightest texel is 1 (a kind that is zero everywhere keeps 1).
 Normalisation normalisationFor(const std::vector<FrameLayers>& frames, bool to_unit_range);
 
-// Throws std::invalid_argument when the frames do not fit the grid or differ in size.
+// Throws an InvalidArgument Error when the frames do not fit the grid or differ in size.
 image::ImageRGBA packAtlas(const AtlasSpec& spec, const std::vector<FrameLayers>& frames, int columns, int rows,
                            const Normalisation& normalisation);
 

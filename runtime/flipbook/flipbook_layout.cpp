@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "basis/six_way_lights.h"
+#include "common/error.h"
 
 namespace firelook::flipbook {
 
@@ -10,7 +11,8 @@ Layout parseLayout(std::string_view name) {
     if (name == "six-way-unity") return Layout::SixWayUnity;
     if (name == "six-way-rlt-bbf") return Layout::SixWayRltBbf;
     if (name == "rgba") return Layout::Rgba;
-    throw std::invalid_argument("--layout '" + std::string(name) + "' is not six-way-unity, six-way-rlt-bbf or rgba");
+    throw Error(ErrorCode::InvalidArgument,
+                "--layout '" + std::string(name) + "' is not six-way-unity, six-way-rlt-bbf or rgba");
 }
 
 std::string_view layoutName(Layout layout) {

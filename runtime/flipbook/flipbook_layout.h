@@ -34,7 +34,7 @@ struct AtlasSpec {
     std::array<Layer, 4> channels;  // R, G, B, A
 };
 
-// Throws std::invalid_argument naming the text for an unknown layout.
+// Throws an InvalidArgument Error naming the text for an unknown layout.
 Layout parseLayout(std::string_view name);
 std::string_view layoutName(Layout layout);
 std::vector<AtlasSpec> atlasesOf(Layout layout);

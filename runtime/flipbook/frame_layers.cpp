@@ -5,6 +5,7 @@
 
 #include "basis/look_renderer.h"
 #include "basis/six_way_lights.h"
+#include "common/error.h"
 
 namespace firelook::flipbook {
 
@@ -30,7 +31,8 @@ float FrameLayers::value(Layer layer, std::size_t pixel) const {
 FrameLayers renderFrameLayers(const basis::BakeDescription& d, const basis::ResidentFrame& frame, const Look& look,
                               bool six_way) {
     if (six_way && d.six_way_first_light < 0)
-        throw std::invalid_argument("the package was baked without six-way lights (firelook bake --lights six-way)");
+        throw Error(ErrorCode::InvalidArgument,
+                    "the package was baked without six-way lights (firelook bake --lights six-way)");
     FrameLayers out;
     out.width = d.width;
     out.height = d.height;

@@ -26,7 +26,7 @@ struct FrameLayers {
     float value(Layer layer, std::size_t pixel) const;
 };
 
-// Throws std::invalid_argument when `six_way` is asked of a package baked without six-way lights
+// Throws an InvalidArgument Error when `six_way` is asked of a package baked without six-way lights
 // (BakeDescription::six_way_first_light < 0); look errors as renderLookImage.
 FrameLayers renderFrameLayers(const basis::BakeDescription& description, const basis::ResidentFrame& frame,
                               const Look& look, bool six_way);

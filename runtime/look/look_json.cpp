@@ -204,9 +204,8 @@ std::string lookToJson(const Look& look) {
 void saveLook(const std::filesystem::path& path, const Look& look) {
     try {
         writeFileAtomically(path, lookToJson(look));
-    } catch (const LookError&) {
-        throw;
     } catch (const Error& error) {
+        if (error.code() == ErrorCode::Look) throw;  // the look itself (validateLook), already named
         // The message already names the file: "<path>: cannot ...".
         std::string problem = error.what();
         if (problem.starts_with(path.string() + ": ")) problem.erase(0, path.string().size() + 2);

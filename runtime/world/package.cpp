@@ -11,8 +11,8 @@
 namespace firelook::world {
 namespace {
 
-// The basis layer reports bad content with plain std exceptions; everything it reads comes from the
-// file, so those become Corrupt here. Coded errors and out-of-memory pass through unchanged.
+// The basis layer throws coded errors, which pass through, as does out-of-memory. An uncoded
+// exception on the way (a third-party library's) is about what came from the file: Corrupt.
 template <typename F>
 auto corruptOnFailure(F&& read) {
     try {

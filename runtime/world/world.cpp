@@ -5,6 +5,7 @@
 
 #include "basis/coefficients.h"
 #include "basis/recombine.h"
+#include "common/error.h"
 
 namespace firelook::world {
 namespace {
@@ -27,7 +28,7 @@ World::World(WorldSettings settings)
       z_(HostAllocator<float>(&settings_.memory)),
       flare_scratch_(HostAllocator<float>(&settings_.memory)) {
     if ((settings_.memory.alloc == nullptr) != (settings_.memory.free == nullptr))
-        throw std::invalid_argument("memory hooks: set both alloc and free, or neither");
+        throw Error(ErrorCode::InvalidArgument, "memory hooks: set both alloc and free, or neither");
 }
 
 World::~World() = default;
@@ -97,7 +98,7 @@ void World::ensureStrides(const Package& p) {
 }
 
 InstanceHandle World::create(std::shared_ptr<const Package> package) {
-    if (!package) throw std::invalid_argument("create: null package");
+    if (!package) throw Error(ErrorCode::InvalidArgument, "create: null package");
     Keyframe key{0.0, package->resolvedDefaultLook()};  // parsed and fitted once, by Package::open
     handles_.requireRoom();  // before anything changes
 
@@ -164,12 +165,13 @@ void World::setLook(InstanceHandle h, const Look& look) {
 
 void World::setKeyframes(InstanceHandle h, std::span<const std::pair<double, Look>> keys) {
     const int dense = denseIndex(h);
-    if (keys.empty()) throw std::invalid_argument("setKeyframes: at least one key is required");
+    if (keys.empty()) throw Error(ErrorCode::InvalidArgument, "setKeyframes: at least one key is required");
     const basis::BakeDescription& d = packages_[package_index_[dense]].package->description();
     std::vector<Keyframe> resolved;
     resolved.reserve(keys.size());
     for (const auto& [frame, look] : keys) {
-        if (!std::isfinite(frame)) throw std::invalid_argument("setKeyframes: a key's frame is not finite");
+        if (!std::isfinite(frame))
+            throw Error(ErrorCode::InvalidArgument, "setKeyframes: a key's frame is not finite");
         resolved.push_back({frame, resolveLook(look, d)});
     }
     std::stable_sort(resolved.begin(), resolved.end(),
@@ -180,14 +182,15 @@ void World::setKeyframes(InstanceHandle h, std::span<const std::pair<double, Loo
 void World::setPlayback(InstanceHandle h, const PlaybackSettings& pb) {
     const int dense = denseIndex(h);
     if (!std::isfinite(pb.time) || !std::isfinite(pb.rate))
-        throw std::invalid_argument("setPlayback: time and rate must be finite");
+        throw Error(ErrorCode::InvalidArgument, "setPlayback: time and rate must be finite");
     playback_[dense] = pb;
 }
 
 void World::setOutputs(InstanceHandle h, const OutputSettings& out) {
     const int dense = denseIndex(h);
     if (out.lens_flare && !out.image)
-        throw std::invalid_argument("setOutputs: the lens flare is computed from the image; enable the image too");
+        throw Error(ErrorCode::InvalidArgument,
+                    "setOutputs: the lens flare is computed from the image; enable the image too");
     const basis::BakeDescription& d = packages_[package_index_[dense]].package->description();
     const size_t floats = static_cast<size_t>(d.pixelCount()) * 4;
     if (out.image) image_[dense].resize(floats);
@@ -262,7 +265,7 @@ void World::trimCache() {
 }
 
 void World::update(double dt) {
-    if (!std::isfinite(dt)) throw std::invalid_argument("update: dt must be finite");
+    if (!std::isfinite(dt)) throw Error(ErrorCode::InvalidArgument, "update: dt must be finite");
     ++update_count_;
     const size_t n = dense_to_handle_.size();
 

@@ -40,7 +40,7 @@
 //
 // Errors: InvalidHandle for a stale or invalid handle, LookError for a look
 // that does not fit the package, Error(Limit) past the instance limit,
-// std::invalid_argument for other bad input.
+// an InvalidArgument Error for other bad input.
 // A call that throws leaves the world unchanged.
 #pragma once
 
@@ -127,7 +127,7 @@ class World {
     // A light from a direction chosen at run time (basis/relight.h): from the next update on, the
     // six-way lights' irradiance of whatever look the instance shows is replaced by the weights of
     // `light` times its irradiance; it stays across setLook/setKeyframes. nullopt: the look's own
-    // six-way irradiance again. std::invalid_argument (nothing changes) when the package has no
+    // six-way irradiance again. An InvalidArgument Error (nothing changes) when the package has no
     // six-way lights or the light is not finite, has a zero direction or a negative irradiance.
     void setLightDirection(InstanceHandle instance, const std::optional<basis::RunTimeLight>& light);
     const PlaybackSettings& playback(InstanceHandle instance) const;

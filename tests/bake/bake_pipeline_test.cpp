@@ -2,21 +2,21 @@
 // few photons, a 2x1x1 parameter grid.
 #include "bake/bake_pipeline.h"
 
+#include <gtest/gtest.h>
 #include <tbb/global_control.h>
 #include <unistd.h>
-
-#include <gtest/gtest.h>
 
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "../support/error_code.h"
 #include "../support/temp_dir.h"
-#include "package_images.h"
-#include "tiny_sample_bake.h"
 #include "basis/basis_package.h"
 #include "basis/frame_factors.h"
 #include "basis/look_renderer.h"
 #include "look/look.h"
+#include "package_images.h"
+#include "tiny_sample_bake.h"
 #include "vdb/vdb_sequence.h"
 
 namespace firelook::bake {
@@ -184,7 +184,8 @@ TEST(BakePipeline, BadInputsFailWithoutOutput) {
     TempDir dir;
     BakeConfig frames = tinyConfig();
     frames.frames = "40-50";
-    EXPECT_THROW(bakePackage(FIRELOOK_SAMPLE_DIR, dir / "a.firelook", frames, "test"), std::invalid_argument);
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument,
+                      bakePackage(FIRELOOK_SAMPLE_DIR, dir / "a.firelook", frames, "test"));
     EXPECT_THROW(bakePackage(FIRELOOK_SAMPLE_DIR, dir / "missing" / "a.firelook", tinyConfig(), "test"),
                  std::exception);
     EXPECT_THROW(bakePackage((dir / "no-such-sequence").string(), dir / "a.firelook", tinyConfig(), "test"),

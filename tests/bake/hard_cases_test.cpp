@@ -9,6 +9,7 @@
 #include <limits>
 #include <vector>
 
+#include "../support/error_code.h"
 #include "bake/basis_compression.h"
 #include "bake/basis_tracer.h"
 #include "bake_test_support.h"
@@ -253,10 +254,12 @@ TEST(BakeHardCases, RejectsOversizedAxes) {
     std::vector<double> many;
     for (int i = 0; i < 65; ++i) many.push_back(i);
     BasisModel m = basisModel(4, 0.8, {{0.3}, many, {0.5}});
-    EXPECT_THROW(traceFrameBasis(medium, headOnCamera(8), m, fastTrace()), std::invalid_argument);
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument,
+                      traceFrameBasis(medium, headOnCamera(8), m, fastTrace()));
     m = basisModel(4, 0.8, {{0.3}, {2.0}, {0.5}});
     m.alpha_thresholds.clear();
-    EXPECT_THROW(traceFrameBasis(medium, headOnCamera(8), m, fastTrace()), std::invalid_argument);
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument,
+                      traceFrameBasis(medium, headOnCamera(8), m, fastTrace()));
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "../basis/codec_test_frames.h"
+#include "../support/error_code.h"
 #include "../support/temp_dir.h"
 #include "bake/bake_config.h"
 #include "bake/bake_pipeline.h"
@@ -84,10 +85,12 @@ TEST(StorageTarget, TargetSizeKeepsThePackageOfTheSequenceWithinIt) {
 }
 
 TEST(StorageTarget, BothTargetsOrABadErrorAreRefused) {
-    EXPECT_THROW(checkStorageTarget({.package_bytes = 1 << 20, .basis_error = 0.01}), std::invalid_argument);
-    EXPECT_THROW(checkStorageTarget({.basis_error = 1.5}), std::invalid_argument);
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument,
+                      checkStorageTarget({.package_bytes = 1 << 20, .basis_error = 0.01}));
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument, checkStorageTarget({.basis_error = 1.5}));
     EXPECT_NO_THROW(checkStorageTarget({.basis_error = 0.01}));
-    EXPECT_THROW(frameShareBytes({.package_bytes = 1000}, 12, 500), std::invalid_argument);
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument,
+                      frameShareBytes({.package_bytes = 1000}, 12, 500));
 }
 
 TEST(StorageTarget, BakeConfigFileTakesTheTargetsAndTheMemoryBudget) {

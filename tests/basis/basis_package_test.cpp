@@ -12,9 +12,10 @@
 #include <glm/gtc/packing.hpp>
 #include <nlohmann/json.hpp>
 
-#include "package/error.h"
+#include "../support/error_code.h"
 #include "../support/temp_dir.h"
 #include "../world/synthetic_package.h"
+#include "package/error.h"
 #include "reference_kernels.h"
 
 namespace firelook::basis {
@@ -179,10 +180,10 @@ TEST(BasisReader, InconsistentFactorsAreRefusedByTheWriter) {
     FrameFactors f = packageFactors(d, 1, 2);
     f.depth_a.pop_back();
     package::ContainerWriter writer(dir / "a.firelook");
-    EXPECT_THROW(writeFrameFactors(writer, d, f), std::invalid_argument);
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument, writeFrameFactors(writer, d, f));
     f = packageFactors(d, 2, 2);
     f.u_half.pop_back();
-    EXPECT_THROW(writeFrameFactors(writer, d, f), std::invalid_argument);
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument, writeFrameFactors(writer, d, f));
 }
 
 TEST(BasisReader, MissingSectionNamesTheFileAndSection) {

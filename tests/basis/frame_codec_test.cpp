@@ -9,6 +9,7 @@
 #include <glm/gtc/packing.hpp>
 #include <random>
 
+#include "../support/error_code.h"
 #include "basis/source_balance.h"
 #include "codec_test_frames.h"
 #include "reference_kernels.h"
@@ -186,7 +187,7 @@ TEST(FrameCodec, ReportsTheBoundItCanKeep) {
             }
     FrameCodecSettings zero;
     zero.basis_error = 0.0;
-    EXPECT_THROW(encodeFrame(d, original, zero), std::invalid_argument);
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument, encodeFrame(d, original, zero));
 }
 
 }  // namespace

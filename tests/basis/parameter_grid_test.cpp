@@ -255,7 +255,8 @@ TEST(ParameterGrid, ValidateAxesNamesTheAxis) {
     const auto message = [](const ParameterAxes& axes) -> std::string {
         try {
             validateAxes(axes);
-        } catch (const std::invalid_argument& e) {
+        } catch (const firelook::Error& e) {
+            EXPECT_EQ(e.code(), firelook::ErrorCode::InvalidArgument);
             return e.what();
         }
         return "";

@@ -4,8 +4,6 @@
 // and NaN values, ranks that are not multiples of 8, 1 to 16 footprint rays, and pixel counts that
 // leave partial blocks; and the resident kernel's polynomial exp (runtime/basis/recombine.cpp)
 // over every code of a depth grid.
-#include "reference_kernels.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -18,6 +16,9 @@
 #include <string>
 #include <tuple>
 #include <vector>
+
+#include "../support/error_code.h"
+#include "reference_kernels.h"
 
 namespace firelook::basis {
 namespace {
@@ -295,13 +296,19 @@ TEST(RecombineKernel, DepthLayersAreChecked) {
     std::vector<float> rgba(static_cast<size_t>(c.f.pixels) * 4);
     Case short_density = c;
     short_density.f.depth_b.pop_back();
-    EXPECT_THROW(reference::reconstructImage(short_density.d, short_density.f, c.u, c.z, kLooks[0], rgba), std::invalid_argument);
+    EXPECT_ERROR_CODE(
+        firelook::ErrorCode::InvalidArgument,
+        reference::reconstructImage(short_density.d, short_density.f, c.u, c.z, kLooks[0], rgba));
     Case short_sigmoid = c;
     short_sigmoid.f.depth_a.pop_back();
-    EXPECT_THROW(reference::reconstructImage(short_sigmoid.d, short_sigmoid.f, c.u, c.z, kLooks[0], rgba), std::invalid_argument);
-    EXPECT_THROW(reference::pixelAlpha(short_sigmoid.d, short_sigmoid.f, 0, kLooks[0]), std::invalid_argument);
-    EXPECT_THROW(reference::pixelAlpha(c.d, c.f, -1, kLooks[0]), std::invalid_argument);
-    EXPECT_THROW(reference::pixelAlpha(c.d, c.f, c.f.pixels, kLooks[0]), std::invalid_argument);
+    EXPECT_ERROR_CODE(
+        firelook::ErrorCode::InvalidArgument,
+        reference::reconstructImage(short_sigmoid.d, short_sigmoid.f, c.u, c.z, kLooks[0], rgba));
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument,
+                      reference::pixelAlpha(short_sigmoid.d, short_sigmoid.f, 0, kLooks[0]));
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument, reference::pixelAlpha(c.d, c.f, -1, kLooks[0]));
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument,
+                      reference::pixelAlpha(c.d, c.f, c.f.pixels, kLooks[0]));
 }
 
 }  // namespace

@@ -1,8 +1,6 @@
 // Coefficients z = S V^T w, reconstruction U z and exact alpha as defined by the reference kernels
 // (reference_kernels.h, what the runtime's resident kernels are checked against), on hand-built
 // factors whose images can be computed by hand.
-#include "reference_kernels.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +8,9 @@
 #include <glm/gtc/packing.hpp>
 #include <limits>
 #include <vector>
+
+#include "../support/error_code.h"
+#include "reference_kernels.h"
 
 namespace firelook::basis {
 namespace {
@@ -137,26 +138,34 @@ TEST(Recombine, ArgumentCountsAreChecked) {
     std::vector<float> z(static_cast<size_t>(f.rank) * 3);
     const ExtinctionParams theta{1.0, 1.0, 1.0};
     const std::vector<Rgb> two_bins(2, Rgb(1.0f)), four_bins(4, Rgb(1.0f)), two_lights(2, Rgb(1.0f));
-    EXPECT_THROW(reference::computeCoefficients(d, f, {theta, two_bins, kIrradiance}, z), std::invalid_argument);
-    EXPECT_THROW(reference::computeCoefficients(d, f, {theta, four_bins, kIrradiance}, z), std::invalid_argument);
-    EXPECT_THROW(reference::computeCoefficients(d, f, {theta, kCoefficients, {}}, z), std::invalid_argument);
-    EXPECT_THROW(reference::computeCoefficients(d, f, {theta, kCoefficients, two_lights}, z), std::invalid_argument);
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument,
+                      reference::computeCoefficients(d, f, {theta, two_bins, kIrradiance}, z));
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument,
+                      reference::computeCoefficients(d, f, {theta, four_bins, kIrradiance}, z));
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument,
+                      reference::computeCoefficients(d, f, {theta, kCoefficients, {}}, z));
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument,
+                      reference::computeCoefficients(d, f, {theta, kCoefficients, two_lights}, z));
     std::vector<float> short_z(static_cast<size_t>(f.rank) * 3 - 1);
-    EXPECT_THROW(reference::computeCoefficients(d, f, {theta, kCoefficients, kIrradiance}, short_z),
-                 std::invalid_argument);
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument,
+                      reference::computeCoefficients(d, f, {theta, kCoefficients, kIrradiance}, short_z));
     try {
         reference::computeCoefficients(d, f, {theta, two_bins, kIrradiance}, z);
-    } catch (const std::invalid_argument& e) {
+    } catch (const firelook::Error& e) {
+        EXPECT_EQ(e.code(), firelook::ErrorCode::InvalidArgument);
         EXPECT_NE(std::string(e.what()).find("bins"), std::string::npos) << e.what();
     }
 
     const std::vector<float> u = decodeU(f);
     std::vector<float> rgba(static_cast<size_t>(f.pixels) * 4);
     std::vector<float> short_rgba(rgba.size() - 1);
-    EXPECT_THROW(reference::reconstructImage(d, f, u, z, theta, short_rgba), std::invalid_argument);
-    EXPECT_THROW(reference::reconstructImage(d, f, u, short_z, theta, rgba), std::invalid_argument);
-    EXPECT_THROW(reference::reconstructImage(d, f, std::span<const float>(u).first(u.size() - 1), z, theta, rgba),
-                 std::invalid_argument);
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument,
+                      reference::reconstructImage(d, f, u, z, theta, short_rgba));
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument,
+                      reference::reconstructImage(d, f, u, short_z, theta, rgba));
+    EXPECT_ERROR_CODE(
+        firelook::ErrorCode::InvalidArgument,
+        reference::reconstructImage(d, f, std::span<const float>(u).first(u.size() - 1), z, theta, rgba));
 }
 
 TEST(Recombine, NegativeAndNonFiniteRadianceBecomesZero) {

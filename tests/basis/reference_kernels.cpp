@@ -6,17 +6,18 @@
 
 #include "basis/parameter_grid.h"
 #include "basis/resident_frame.h"
+#include "common/error.h"
 
 namespace firelook::reference {
 namespace {
 
-// Throws std::invalid_argument unless the factors hold every depth layer the description implies.
+// Throws an InvalidArgument Error unless the factors hold every depth layer the description implies.
 void checkDepthLayers(const basis::BakeDescription& description, const basis::FrameFactors& factors) {
     const size_t rays = static_cast<size_t>(std::max(description.footprint_samples, 0)) *
                         static_cast<size_t>(std::max(factors.pixels, 0));
     if (description.footprint_samples < 1 || description.alpha_thresholds.empty() ||
         factors.depth_b.size() < rays || factors.depth_a.size() < rays * description.alpha_thresholds.size())
-        throw std::invalid_argument("optical depth layers do not match the description");
+        throw Error(ErrorCode::InvalidArgument, "optical depth layers do not match the description");
 }
 
 // The alpha of one pixel (the depth layers checked).
@@ -55,9 +56,9 @@ void reconstructImage(const basis::BakeDescription& description, const basis::Fr
                       std::span<float> rgba_out) {
     const size_t pixels = static_cast<size_t>(std::max(factors.pixels, 0));
     const size_t rank = static_cast<size_t>(std::max(factors.rank, 0));
-    if (rgba_out.size() < pixels * 4) throw std::invalid_argument("image output too short");
-    if (z.size() < rank * 3) throw std::invalid_argument("coefficients too short");
-    if (u_float.size() < pixels * rank) throw std::invalid_argument("U too short");
+    if (rgba_out.size() < pixels * 4) throw Error(ErrorCode::InvalidArgument, "image output too short");
+    if (z.size() < rank * 3) throw Error(ErrorCode::InvalidArgument, "coefficients too short");
+    if (u_float.size() < pixels * rank) throw Error(ErrorCode::InvalidArgument, "U too short");
     checkDepthLayers(description, factors);
     for (size_t p = 0; p < pixels; ++p) {
         for (size_t c = 0; c < 3; ++c) {
@@ -72,7 +73,7 @@ void reconstructImage(const basis::BakeDescription& description, const basis::Fr
 float pixelAlpha(const basis::BakeDescription& description, const basis::FrameFactors& factors, int pixel,
                  const ExtinctionParams& extinction) {
     checkDepthLayers(description, factors);
-    if (pixel < 0 || pixel >= factors.pixels) throw std::invalid_argument("pixel out of range");
+    if (pixel < 0 || pixel >= factors.pixels) throw Error(ErrorCode::InvalidArgument, "pixel out of range");
     return alphaOf(description, factors, static_cast<size_t>(pixel), extinction);
 }
 

@@ -20,13 +20,13 @@ void computeCoefficients(const basis::BakeDescription& description, const basis:
 // in float, negative and non-finite sums 0; u_float is basis::decodeU(factors). Alpha is the mean
 // over the footprint rays of 1 - e^-tau (in double), tau = a O_a + b O_b with O_a interpolated
 // between the alpha threshold layers that bracket T_c (basis::sampleBracket, its weight in float as
-// the runtime takes it); tau <= 0 is clear, NaN opaque. Throws std::invalid_argument when a span
+// the runtime takes it); tau <= 0 is clear, NaN opaque. Throws an InvalidArgument Error when a span
 // or the depth layers are too short.
 void reconstructImage(const basis::BakeDescription& description, const basis::FrameFactors& factors,
                       std::span<const float> u_float, std::span<const float> z, const ExtinctionParams& extinction,
                       std::span<float> rgba_out);
 
-// The alpha reconstructImage writes for `pixel` (the same code). Throws std::invalid_argument for
+// The alpha reconstructImage writes for `pixel` (the same code). Throws an InvalidArgument Error for
 // a pixel out of range or depth layers too short.
 float pixelAlpha(const basis::BakeDescription& description, const basis::FrameFactors& factors, int pixel,
                  const ExtinctionParams& extinction);

@@ -6,6 +6,7 @@
 
 #include <memory_resource>
 
+#include "../support/error_code.h"
 #include "basis/basis_package.h"
 #include "basis/look_renderer.h"
 #include "fit_test_package.h"
@@ -122,7 +123,8 @@ TEST(LookFit, HeldParametersStayAndAreChecked) {
     try {
         f.fit(f.render(truth), options);
         FAIL() << "no error for k_s outside its axis";
-    } catch (const std::invalid_argument& e) {
+    } catch (const firelook::Error& e) {
+        EXPECT_EQ(e.code(), firelook::ErrorCode::InvalidArgument);
         EXPECT_NE(std::string(e.what()).find("k_s"), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("outside the baked range"), std::string::npos) << e.what();
     }
@@ -155,15 +157,16 @@ TEST(LookFit, RefusesTargetsThatDoNotFit) {
     try {
         f.fit(t);
         FAIL() << "no error for a wrong-size target";
-    } catch (const std::invalid_argument& e) {
+    } catch (const firelook::Error& e) {
+        EXPECT_EQ(e.code(), firelook::ErrorCode::InvalidArgument);
         EXPECT_NE(std::string(e.what()).find("32x32"), std::string::npos) << e.what();
     }
     t.rgba.assign(static_cast<size_t>(f.d.pixelCount()) * 4, 0.0f);
     t.rgba[5] = std::nanf("");
-    EXPECT_THROW(f.fit(t), std::invalid_argument);
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument, f.fit(t));
     t.rgba[5] = 0.0f;
     t.frame = 7;  // paired with frame 6
-    EXPECT_THROW(f.fit(t), std::invalid_argument);
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument, f.fit(t));
 }
 
 TEST(LookFit, RefusesAMaskThatLeavesNoPixel) {
@@ -174,7 +177,8 @@ TEST(LookFit, RefusesAMaskThatLeavesNoPixel) {
     try {
         f.fit(t);
         FAIL() << "no error for a target with no weighted pixel";
-    } catch (const std::invalid_argument& e) {
+    } catch (const firelook::Error& e) {
+        EXPECT_EQ(e.code(), firelook::ErrorCode::InvalidArgument);
         EXPECT_NE(std::string(e.what()).find("no target pixel"), std::string::npos) << e.what();
     }
 }

@@ -33,11 +33,13 @@ void expectVectorNear(const glm::dvec3& actual, const glm::dvec3& expected) {
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(actual[i], expected[i], kTolerance) << "component " << i;
 }
 
-// The message of the GltfError that loading `path` throws, or a test failure if it throws none.
-std::string loadError(const std::filesystem::path& path) {
+// The message of the GltfError that loading `path` throws, or a test failure if it throws none or
+// one of another code.
+std::string loadError(const std::filesystem::path& path, ErrorCode code = ErrorCode::BadScene) {
     try {
         loadScene(path);
     } catch (const GltfError& error) {
+        EXPECT_EQ(error.code(), code) << error.what();
         return error.what();
     }
     ADD_FAILURE() << "loading " << path << " did not throw GltfError";
@@ -185,7 +187,7 @@ TEST(GltfScene, CyclicHierarchyIsAnErrorNotAHang) {
 }
 
 TEST(GltfScene, MissingFileIsAnError) {
-    const std::string message = loadError(kDataDir / "does_not_exist.gltf");
+    const std::string message = loadError(kDataDir / "does_not_exist.gltf", ErrorCode::IoError);
     EXPECT_NE(message.find("does_not_exist.gltf"), std::string::npos) << message;
 }
 

@@ -10,8 +10,9 @@
 #include <limits>
 #include <string>
 
-#include "image/srgb.h"
+#include "../support/error_code.h"
 #include "../support/temp_dir.h"
+#include "image/srgb.h"
 
 namespace firelook::image {
 namespace {
@@ -265,6 +266,7 @@ TEST(ImageIo, MissingFolderIsAnErrorNamingTheFile) {
         writeImage(path, solidImage(1, 1, {1, 1, 1, 1}));
         FAIL() << "expected ImageError";
     } catch (const ImageError& error) {
+        EXPECT_EQ(error.code(), ErrorCode::IoError);  // the temporary's (formats/common/atomic_file.h)
         EXPECT_NE(std::string(error.what()).find(path.string()), std::string::npos) << error.what();
     }
 }
@@ -318,8 +320,9 @@ TEST(ImageIo, MalformedImagesAreRefused) {
 
 TEST(ImageIo, ReadingMissingOrCorruptFilesIsAnError) {
     TempDir dir;
-    EXPECT_THROW(readImage(dir.path() / "absent.exr"), ImageError);
+    EXPECT_ERROR_CODE(ErrorCode::IoError, readImage(dir.path() / "absent.exr"));
     std::ofstream(dir.path() / "garbage.exr") << "not an image at all";
+    EXPECT_ERROR_CODE(ErrorCode::BadImage, readImage(dir.path() / "garbage.exr"));
     try {
         readImage(dir.path() / "garbage.exr");
         FAIL() << "expected ImageError";

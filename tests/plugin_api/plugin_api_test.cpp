@@ -4,8 +4,6 @@
 // (tolerance: 1e-5 of the peak radiance + 1e-5 relative, as in tests/world), the GPU layouts, host
 // allocator and log callbacks, dlopen, and the plain-C translation unit. Worlds on two threads:
 // plugin_api_threads_test.cpp.
-#include "firelook/firelook.h"
-
 #include <dlfcn.h>
 #include <gtest/gtest.h>
 
@@ -16,9 +14,10 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <glm/gtc/packing.hpp>
+#include <map>
 #include <memory_resource>
 #include <mutex>
-#include <glm/gtc/packing.hpp>
 #include <set>
 #include <span>
 #include <string>
@@ -27,6 +26,7 @@
 #include "../support/temp_dir.h"
 #include "basis/look_renderer.h"
 #include "common/error.h"
+#include "firelook/firelook.h"
 #include "fit/look_fit.h"
 #include "result_table.h"  // plugin_api/src: the error table and the struct rule, tested directly
 #include "struct_rule.h"
@@ -243,27 +243,49 @@ TEST(PluginApiInit, EveryResultInTheListHasItsOwnName) {
         EXPECT_STREQ(fl_result_string(unknown), "FL_ERROR_UNKNOWN") << unknown;
 }
 
-// The one table from the runtime's coded errors to fl_result: every code of the list maps to a named
-// error (never FL_OK), and the codes whose meaning the issue pinned map as promised.
-TEST(PluginApiInit, EveryErrorCodeMapsToANamedResult) {
+// The one table (result_table.h) from the coded errors to fl_result: every code of the list maps to
+// a named error (never FL_OK); each code has a result of its own except the many-to-one rows that
+// result_table.h documents; and every FL_ERROR_* of the header is reached, so the plugin needs no
+// second way to produce one.
+TEST(PluginApiInit, EveryErrorCodeMapsToADocumentedResult) {
     using firelook::ErrorCode;
+    using firelook::plugin::toResult;
+    std::map<fl_result, std::vector<std::string>> by_result;
     int count = 0;
-#define CHECK_CODE(name, value, text)                                                   \
-    {                                                                                   \
-        const fl_result r = firelook::plugin::toResult(ErrorCode::name);                \
-        EXPECT_LT(r, FL_OK) << #name;                                                   \
-        EXPECT_STRNE(fl_result_string(r), "FL_ERROR_UNKNOWN") << #name;                 \
-        EXPECT_STRNE(firelook::toString(ErrorCode::name), "unknown error") << #name;    \
-        ++count;                                                                        \
+#define CHECK_CODE(name, value, text)                                                \
+    {                                                                                \
+        const fl_result r = toResult(ErrorCode::name);                               \
+        EXPECT_LT(r, FL_OK) << #name;                                                \
+        EXPECT_STRNE(fl_result_string(r), "FL_ERROR_UNKNOWN") << #name;              \
+        EXPECT_STRNE(firelook::toString(ErrorCode::name), "unknown error") << #name; \
+        by_result[r].push_back(#name);                                               \
+        ++count;                                                                     \
     }
     FIRELOOK_ERROR_CODES(CHECK_CODE)
 #undef CHECK_CODE
-    EXPECT_EQ(count, 13);
-    EXPECT_EQ(firelook::plugin::toResult(ErrorCode::Corrupt), FL_ERROR_CORRUPT);
-    EXPECT_EQ(firelook::plugin::toResult(ErrorCode::Truncated), FL_ERROR_CORRUPT);
-    EXPECT_EQ(firelook::plugin::toResult(ErrorCode::InvalidHandle), FL_ERROR_INVALID_HANDLE);
-    EXPECT_EQ(firelook::plugin::toResult(ErrorCode::Look), FL_ERROR_LOOK);
-    EXPECT_EQ(firelook::plugin::toResult(static_cast<ErrorCode>(999)), FL_ERROR_INTERNAL);
+    EXPECT_EQ(count, 25);
+    const std::map<fl_result, std::vector<std::string>> shared = {
+        {FL_ERROR_CORRUPT, {"Truncated", "Corrupt"}},
+        {FL_ERROR_UNSUPPORTED, {"NewerMajorVersion", "UnsupportedFeature"}},
+        {FL_ERROR_INTERNAL,
+         {"InvalidState", "CompressionFailed", "BadVolume", "BadImage", "BadScene", "Internal"}},
+    };
+    for (const auto& [result, names] : by_result) {
+        const auto documented = shared.find(result);
+        if (documented == shared.end())
+            EXPECT_EQ(names.size(), 1u) << fl_result_string(result) << " is reached by more than one code";
+        else
+            EXPECT_EQ(names, documented->second) << fl_result_string(result);
+    }
+#define CHECK_REACHED(name, value)                                               \
+    if ((value) != FL_OK) {                                                      \
+        EXPECT_TRUE(by_result.contains(name)) << #name " is reached by no code"; \
+    }
+    FIRELOOK_RESULTS(CHECK_REACHED)
+#undef CHECK_REACHED
+    EXPECT_EQ(toResult(ErrorCode::Look), FL_ERROR_LOOK);
+    EXPECT_EQ(toResult(ErrorCode::InvalidArgument), FL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(toResult(static_cast<ErrorCode>(999)), FL_ERROR_INTERNAL);
 }
 
 // fl_init's version rule as the header writes it: same major, a minor no newer, any patch; 0 (unset)
@@ -960,6 +982,43 @@ TEST_F(PluginApiWorld, ABadPackageIsCorruptAndTheMessageNamesTheFile) {
     EXPECT_EQ(fl_world_update(world_, 0.0), FL_ERROR_CORRUPT) << fl_last_error();
     destroyWorld();
     EXPECT_EQ(fl_package_release(p), FL_OK);
+}
+
+// One failure from each layer under the plugin reaches the C API by its code through the one table
+// (result_table.h), with the layer's own message: the package reader (not a package), the basis
+// reader (a layout version this build does not read), the look parser (a newer look file) and the
+// world (an argument only the world checks: a lens flare without the image).
+TEST_F(PluginApiWorld, AFailureOfEachLayerReachesTheCApiByItsCode) {
+    fl_package q{};
+    const std::string text = (dir_ / "text.firelook").string();
+    std::ofstream(text) << "this is not a package at all, just some text to read";
+    EXPECT_EQ(fl_package_load(text.c_str(), &q), FL_ERROR_NOT_A_PACKAGE) << fl_last_error();
+    EXPECT_NE(std::string(fl_last_error()).find("text.firelook"), std::string::npos) << fl_last_error();
+
+    const std::string newer = (dir_ / "newer-layout.firelook").string();
+    {
+        firelook::package::ContainerWriter writer(newer, firelook::package::WriterOptions{1});
+        writer.addMetadata(R"({"format": "firelook-basis", "version": 99, "bake": {}})");
+        writer.commit();
+    }
+    EXPECT_EQ(fl_package_load(newer.c_str(), &q), FL_ERROR_UNSUPPORTED) << fl_last_error();
+    EXPECT_NE(std::string(fl_last_error()).find("basis layout version 99"), std::string::npos)
+        << fl_last_error();
+    EXPECT_EQ(q.id, 0u);
+
+    std::string newer_look = kLookJson;
+    newer_look.replace(newer_look.find("\"version\": 1"), 12, "\"version\": 9");
+    fl_look look{};
+    EXPECT_EQ(fl_look_from_json(newer_look.c_str(), 0, "newer.json", &look), FL_ERROR_LOOK)
+        << fl_last_error();
+    EXPECT_NE(std::string(fl_last_error()).find("newer.json"), std::string::npos) << fl_last_error();
+
+    const fl_instance inst = createInstance(world_, package_);
+    fl_outputs_desc out = fl_outputs_desc_defaults();
+    out.image = 0;
+    out.lens_flare = 1;
+    EXPECT_EQ(fl_instance_set_outputs(world_, inst, &out), FL_ERROR_INVALID_ARGUMENT) << fl_last_error();
+    EXPECT_NE(std::string(fl_last_error()).find("lens flare"), std::string::npos) << fl_last_error();
 }
 
 // Frame 4's image of `look`, as an instance paused there shows it.

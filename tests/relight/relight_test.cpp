@@ -4,6 +4,8 @@
 // and struct rule, and the command line (render, and reference on the bundled sample). Packages are
 // synthetic (tests/world/synthetic_package.h) with the six-way lights of a tilted camera after one
 // scene light.
+#include "basis/relight.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,19 +13,18 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 #include <random>
 #include <stdexcept>
 #include <vector>
 
-#include <glm/geometric.hpp>
-#include <glm/gtc/matrix_transform.hpp>
-
 #include "../support/command.h"
+#include "../support/error_code.h"
 #include "../support/temp_dir.h"
 #include "basis/basis_package.h"
 #include "basis/look_renderer.h"
-#include "basis/relight.h"
 #include "basis/six_way_lights.h"
 #include "firelook/firelook.h"
 #include "image/image_io.h"
@@ -99,12 +100,12 @@ TEST(RelightWeights, ContinuousInTheDirection) {
 TEST(RelightWeights, RefusesZeroAndNonFiniteDirections) {
     for (const glm::dvec3& bad : {glm::dvec3(0.0), glm::dvec3(kNaN, 0, 1), glm::dvec3(0, kInf, 0),
                                   glm::dvec3(1e300, 1e300, 0)})  // the last one's length overflows
-        EXPECT_THROW(weights(bad), std::invalid_argument);
+        EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument, weights(bad));
     basis::RunTimeLight light;
     light.irradiance = Rgb(1.0f, -0.5f, 1.0f);
-    EXPECT_THROW(basis::checkedUnitDirection(light), std::invalid_argument);
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument, basis::checkedUnitDirection(light));
     light.irradiance = Rgb(1.0f, std::numeric_limits<float>::quiet_NaN(), 1.0f);
-    EXPECT_THROW(basis::checkedUnitDirection(light), std::invalid_argument);
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument, basis::checkedUnitDirection(light));
 }
 
 // A synthetic package: one scene light, then (with six_way) the six-way lights of tiltedSixWay().

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <limits>
 
+#include "../support/error_code.h"
 #include "vdb/frame_grids.h"
 #include "vdb_test_files.h"
 
@@ -88,6 +89,9 @@ TEST(VdbSequence, NonVdbFileIsRefusedByName) {
     const std::string error = errorOf([&] { VdbSequence::open(dir.path().string()); });
     EXPECT_THAT(error, HasSubstr((dir / "f_0001.vdb").string()));
     EXPECT_THAT(error, HasSubstr("not a readable VDB file"));
+    // The code says what the plugin and the CLI act on; the type (VdbError) adds nothing to it.
+    EXPECT_ERROR_CODE(ErrorCode::BadVolume, VdbSequence::open(dir.path().string()));
+    EXPECT_ERROR_CODE(ErrorCode::IoError, VdbSequence::open((dir / "no-such-folder").string()));
 }
 
 TEST(VdbSequence, UnknownFrameNumberIsAnError) {
@@ -97,6 +101,7 @@ TEST(VdbSequence, UnknownFrameNumberIsAnError) {
     const VdbSequence sequence = VdbSequence::open(dir.path().string());
     EXPECT_THAT(sequence.gaps(), ElementsAre(2));
     EXPECT_THAT(errorOf([&] { sequence.load(2); }), HasSubstr("no frame 2 (frames 1 to 3, with gaps)"));
+    EXPECT_ERROR_CODE(ErrorCode::NotFound, sequence.load(2));
 }
 
 // One density grid holding NaN, +Inf, a negative and a good voxel, and a temperature with -Inf.

@@ -10,6 +10,7 @@
 
 #include <cmath>
 
+#include "../support/error_code.h"
 #include "../support/temp_dir.h"
 #include "basis/look_renderer.h"
 #include "basis/recombine.h"
@@ -475,12 +476,13 @@ TEST(World, LooksThatDoNotFitThePackageAreRefusedAndChangeNothing) {
     Look wrong_bins = lookA();
     wrong_bins.emission = EmissionBins{{Rgb(1.0f), Rgb(2.0f)}};
     EXPECT_THROW(world.setLook(h, wrong_bins), LookError);
-    EXPECT_THROW(world.setKeyframes(h, {}), std::invalid_argument);
-    EXPECT_THROW(world.setOutputs(h, {false, true, {}}), std::invalid_argument);  // flare without image
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument, world.setKeyframes(h, {}));
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument,
+                      world.setOutputs(h, {false, true, {}}));  // flare without image
     PlaybackSettings bad;
     bad.rate = NAN;
-    EXPECT_THROW(world.setPlayback(h, bad), std::invalid_argument);
-    EXPECT_THROW(world.update(INFINITY), std::invalid_argument);
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument, world.setPlayback(h, bad));
+    EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument, world.update(INFINITY));
     world.update(0.0);
     expectClose(world.state(h).z, referenceZ(*package, 1, lookA()));
 }

@@ -35,7 +35,7 @@ std::string trimmed(std::string text) {
 tinygltf::Model loadModel(const std::filesystem::path& path) {
     std::error_code status_error;
     if (!std::filesystem::is_regular_file(path, status_error)) {
-        throw GltfError(path.string() + ": no such glTF file");
+        throw GltfError(ErrorCode::IoError, path.string() + ": no such glTF file");
     }
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(&skipImage, nullptr);

@@ -42,7 +42,8 @@ namespace {
 
 // The file's channels as straight floats (8-bit values / 255), checked.
 ImageRGBA readChannels(const std::filesystem::path& path, detail::FileFormat format) {
-    if (!std::filesystem::exists(path)) throw ImageError(path.string() + ": no such file");
+    if (!std::filesystem::exists(path))
+        throw ImageError(ErrorCode::IoError, path.string() + ": no such file");
 
     auto input = OIIO::ImageInput::create(detail::oiioFormatName(format));
     if (!input) throw ImageError(path.string() + ": OpenImageIO cannot create a reader: " + OIIO::geterror());

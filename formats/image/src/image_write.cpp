@@ -119,7 +119,8 @@ void writeImage(const std::filesystem::path& path, const ImageRGBA& image, const
             }
         });
     } catch (const firelook::Error& error) {
-        throw ImageError(error.what());  // the temporary's failures (its message names the file)
+        throw ImageError(error.code(),
+                         error.what());  // the temporary's failures (its message names the file)
     }
 }
 
@@ -147,7 +148,7 @@ void writeDataImage(const std::filesystem::path& path, const ImageRGBA& image, c
             writeWithOiio(path, temporary, format, spec, OIIO::TypeDesc::UINT8, bytes.data());
         });
     } catch (const firelook::Error& error) {
-        throw ImageError(error.what());
+        throw ImageError(error.code(), error.what());
     }
 }
 
