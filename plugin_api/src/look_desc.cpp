@@ -2,6 +2,8 @@
 
 #include <cstring>
 #include <stdexcept>
+
+#include "common/error.h"
 #include <vector>
 
 namespace firelook::plugin {
@@ -9,7 +11,7 @@ namespace {
 
 // Count x 3 floats as colours; a null array with a count above 0 is the caller's mistake.
 std::vector<Rgb> coloursOf(const float* values, uint32_t count, const char* what) {
-    if (count > 0 && !values) throw std::invalid_argument(std::string("desc->") + what + " is null");
+    if (count > 0 && !values) throw Error(ErrorCode::InvalidArgument, std::string("desc->") + what + " is null");
     std::vector<Rgb> colours;
     for (uint32_t i = 0; i < count; ++i) colours.emplace_back(values[3 * i], values[3 * i + 1], values[3 * i + 2]);
     return colours;
@@ -27,12 +29,12 @@ Look lookFromDesc(const fl_look_desc& desc, const std::string& source_name) {
     switch (desc.emission_form) {
         case FL_EMISSION_PRESET: {
             const size_t length = strnlen(desc.preset, sizeof desc.preset);
-            if (length == sizeof desc.preset) throw std::invalid_argument("desc->preset is not NUL-terminated");
+            if (length == sizeof desc.preset) throw Error(ErrorCode::InvalidArgument, "desc->preset is not NUL-terminated");
             look.emission = EmissionPreset{std::string(desc.preset, length), desc.preset_scale};
             break;
         }
         case FL_EMISSION_STOPS: {
-            if (desc.stop_count > 0 && !desc.stops) throw std::invalid_argument("desc->stops is null");
+            if (desc.stop_count > 0 && !desc.stops) throw Error(ErrorCode::InvalidArgument, "desc->stops is null");
             EmissionStops stops;
             for (uint32_t i = 0; i < desc.stop_count; ++i) {
                 const double* s = desc.stops + 4 * i;
@@ -46,7 +48,7 @@ Look lookFromDesc(const fl_look_desc& desc, const std::string& source_name) {
             look.emission = EmissionBins{coloursOf(desc.bins, desc.bin_count, "bins")};
             break;
         default:
-            throw std::invalid_argument("desc->emission_form " + std::to_string(desc.emission_form) +
+            throw Error(ErrorCode::InvalidArgument, "desc->emission_form " + std::to_string(desc.emission_form) +
                                         " is not FL_EMISSION_PRESET, _STOPS or _BINS");
     }
     look.light_irradiance = coloursOf(desc.lights, desc.light_count, "lights");
@@ -63,7 +65,7 @@ fl_look_desc descOf(const Look& look) {
     if (const auto* preset = std::get_if<EmissionPreset>(&look.emission)) {
         desc.emission_form = FL_EMISSION_PRESET;
         if (preset->name.size() >= sizeof desc.preset)
-            throw std::invalid_argument("preset name \"" + preset->name + "\" does not fit fl_look_desc.preset");
+            throw Error(ErrorCode::InvalidArgument, "preset name \"" + preset->name + "\" does not fit fl_look_desc.preset");
         std::memcpy(desc.preset, preset->name.c_str(), preset->name.size() + 1);
         desc.preset_scale = preset->scale;
     } else if (const auto* stops = std::get_if<EmissionStops>(&look.emission)) {

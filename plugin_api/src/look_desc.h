@@ -11,11 +11,11 @@
 namespace firelook::plugin {
 
 // The look `desc` describes, validated (validateLook: LookError naming source_name). A malformed desc
-// (unknown form, null array with a count, unterminated preset name) throws std::invalid_argument.
+// (unknown form, null array with a count, unterminated preset name) throws firelook::Error (ErrorCode::InvalidArgument).
 Look lookFromDesc(const fl_look_desc& desc, const std::string& source_name);
 
 // The look's form, scalars, preset and counts (pointers null); a preset name longer than the field
-// throws std::invalid_argument (none is: emission_presets.h).
+// throws firelook::Error (ErrorCode::InvalidArgument) (none is: emission_presets.h).
 fl_look_desc descOf(const Look& look);
 
 // The look's arrays into the callers' buffers, each as large as descOf's counts (or empty: not written).

@@ -30,8 +30,8 @@ std::string sizeText(int width, int height) { return std::to_string(width) + "x"
 ImageRGBA readCoded(const std::string& path) {
     try {
         return readImage(path);
-    } catch (const ImageError& e) {
-        throwUnreadable(e.what());  // names the file
+    } catch (const Error& e) {
+        throwUnreadable(e.what());  // names the file; any reading failure is the file's
     }
 }
 
@@ -104,7 +104,7 @@ FitTargetImage readFitTarget(const FitTargetRequest& request) {
 std::vector<float> fitDifference(const std::vector<float>& target_rgba, bool match_alpha,
                                  const std::array<float, 3>& background, const std::vector<float>& fit_rgba) {
     if (target_rgba.size() != fit_rgba.size())
-        throw std::invalid_argument("fitDifference: the target and the fit differ in size");
+        throw Error(ErrorCode::InvalidArgument, "fitDifference: the target and the fit differ in size");
     std::vector<float> difference(fit_rgba.size());
     for (size_t p = 0; p < fit_rgba.size() / 4; ++p) {
         const float* i = fit_rgba.data() + 4 * p;
