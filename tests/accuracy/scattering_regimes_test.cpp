@@ -12,7 +12,7 @@
 // mass from cube centres, baker/bake/scatter_cells.cpp; and dense, high-albedo smoke lost the tail
 // of its orders). Measured with the baker before the fix (bench of today's): -0.56% on the first
 // case and -1.70% on the second (worst channel); with the fix -0.08%, -0.14% and +0.23% on the
-// three. Margin 0.4%: fails at half the bias the issue found; the reference's own noise of the mean
+// three; with stratified photons (baker/bake/photon_pass.cpp, 2026-12-06) -0.07%, -0.14%, +0.24%. Margin 0.4%: fails at half the bias the issue found; the reference's own noise of the mean
 // is 0.06-0.09% at 1024 spp here (printed; the test requires below 0.13%), so the margin is 3 or
 // more of its standard errors. CI time: about 165 s for the three (2-core machine, release build).
 #include <gtest/gtest.h>
