@@ -49,13 +49,8 @@ struct PhotonSequence {
 };
 
 void traceChunk(const TransportContext& ctx, SourceKind kind, const PhotonStartSampler& sampler,
-                const std::vector<float>* previous, int photons, std::uint64_t seed, int chunk,
-                std::vector<float>& field) {
-    // One shift per pass, from a stream no photon uses (photon indices are below 2^31).
-    render::Pcg32 pass_rng = render::Pcg32::forSample(seed, static_cast<uint64_t>(kind), uint64_t(1) << 40);
-    PhotonSequence sequence;
-    sequence.shift_u = pass_rng.uniform();
-    sequence.shift_v = pass_rng.uniform();
+                const PhotonSequence& sequence, const std::vector<float>* previous, int photons,
+                std::uint64_t seed, int chunk, std::vector<float>& field) {
     const TraceTables& tb = ctx.tables;
     const int G = tb.points, C = tb.columns;
     field.assign(ctx.field_size, 0.0f);
@@ -177,11 +172,16 @@ std::size_t photonPassBytes(std::size_t field_size) { return (1 + kChunksAtOnce)
 
 std::vector<float> photonPass(const TransportContext& ctx, SourceKind kind, const PhotonStartSampler& sampler,
                               const std::vector<float>* previous, int photons, std::uint64_t seed) {
+    // One shift per pass, from a stream no photon uses (photon indices are below 2^31).
+    render::Pcg32 pass_rng = render::Pcg32::forSample(seed, static_cast<uint64_t>(kind), uint64_t(1) << 40);
+    PhotonSequence sequence;
+    sequence.shift_u = pass_rng.uniform();
+    sequence.shift_v = pass_rng.uniform();
     std::vector<float> total;
     std::vector<std::vector<float>> buffers(kChunksAtOnce);
     for (int first = 0; first < kPhotonChunks; first += kChunksAtOnce) {
         tbb::parallel_for(0, kChunksAtOnce, [&](int b) {
-            traceChunk(ctx, kind, sampler, previous, photons, seed, first + b, buffers[b]);
+            traceChunk(ctx, kind, sampler, sequence, previous, photons, seed, first + b, buffers[b]);
         });
         for (int b = 0; b < kChunksAtOnce; ++b) {
             if (total.empty()) {
