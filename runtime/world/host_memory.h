@@ -1,7 +1,7 @@
 // Optional host allocator for the world's large buffers (images, flare
 // images, coefficient arrays, resident frames): a game engine can route them
 // into its own heap. Small bookkeeping and the package reader's buffers (the
-// compressed sections and FrameFactors) use the C++ heap.
+// compressed sections and their decode buffers) use the C++ heap.
 #pragma once
 
 #include <cstddef>

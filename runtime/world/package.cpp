@@ -73,10 +73,6 @@ std::shared_ptr<const Package> Package::checked(basis::BasisReader package) {
     return p;
 }
 
-basis::FrameFactors Package::loadSlot(int slot) const {
-    return corruptOnFailure([&] { return package_.loadFrame(frame_numbers_[slot]); });
-}
-
 basis::ResidentFrame Package::loadResidentSlot(int slot, std::pmr::memory_resource* memory,
                                                std::shared_ptr<const basis::DepthTable> table) const {
     return corruptOnFailure(

@@ -65,11 +65,9 @@ class Package {
         return fire_lights_[slot] ? &*fire_lights_[slot] : nullptr;
     }
 
-    // Decompresses one frame (by slot). Allocates; not for the hot path. Throws
-    // firelook::Error (a section of the wrong shape is Corrupt).
-    basis::FrameFactors loadSlot(int slot) const;
-    // The frame in the resident form the world keeps (basis/resident_frame.h), its memory from
-    // `memory`, reusing `table` when the frame's depth grid is the same. Throws like loadSlot.
+    // The frame (by slot) in the resident form the world keeps (basis/resident_frame.h), its memory
+    // from `memory`, reusing `table` when the frame's depth grid is the same. Throws firelook::Error
+    // (a section of the wrong shape is Corrupt).
     basis::ResidentFrame loadResidentSlot(int slot, std::pmr::memory_resource* memory,
                                           std::shared_ptr<const basis::DepthTable> table) const;
     // The same into `out`, reusing its buffers and `buffers` (one per thread).
