@@ -111,8 +111,8 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         if (j.contains("trace")) {
             const json& t = j["trace"];
             checkKeys(t, {"cell_voxels", "max_cells_per_axis", "max_cell_optical_depth", "light_points_per_axis", "photons_primary",
-                          "photons_per_order", "max_orders", "order_tolerance", "step_voxels", "footprint_step",
-                          "footprint_samples_per_axis"},
+                          "photons_per_order", "photon_noise_target", "max_photon_scale", "max_orders", "order_tolerance",
+                          "step_voxels", "footprint_step", "footprint_samples_per_axis"},
                       "trace");
             c.trace.cell_voxels = t.value("cell_voxels", c.trace.cell_voxels);
             c.trace.max_cells_per_axis = t.value("max_cells_per_axis", c.trace.max_cells_per_axis);
@@ -121,6 +121,8 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             c.trace.footprint_step = t.value("footprint_step", c.trace.footprint_step);
             c.trace.photons_primary = t.value("photons_primary", c.trace.photons_primary);
             c.trace.photons_per_order = t.value("photons_per_order", c.trace.photons_per_order);
+            c.trace.photon_noise_target = t.value("photon_noise_target", c.trace.photon_noise_target);
+            c.trace.max_photon_scale = t.value("max_photon_scale", c.trace.max_photon_scale);
             c.trace.max_orders = t.value("max_orders", c.trace.max_orders);
             c.trace.order_tolerance = t.value("order_tolerance", c.trace.order_tolerance);
             c.trace.step_voxels = t.value("step_voxels", c.trace.step_voxels);
@@ -148,10 +150,11 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         if (c.trace.step_voxels <= 0.0 || c.trace.cell_voxels < 1 || c.trace.photons_primary < 1 ||
             c.trace.max_cells_per_axis < 1 || !(c.trace.max_cell_optical_depth > 0.0) || c.trace.light_points_per_axis < 2 || !(c.trace.footprint_step >= 0.0) ||
             c.trace.photons_per_order < 1 || c.trace.footprint_samples_per_axis < 0 ||
-            c.trace.footprint_samples_per_axis > 8)
-            throw Error(
-                ErrorCode::InvalidArgument,
-                "trace settings must be positive (footprint_samples_per_axis 0..8, 0 = from the image size)");
+            c.trace.footprint_samples_per_axis > 8 || !(c.trace.photon_noise_target >= 0.0) ||
+            c.trace.max_photon_scale < 1 || c.trace.max_photon_scale > 64)
+            throw Error(ErrorCode::InvalidArgument,
+                        "trace settings must be positive (footprint_samples_per_axis 0..8, 0 = from the image size; "
+                        "photon_noise_target >= 0, 0 = the photons as given; max_photon_scale 1..64)");
     } catch (const Error& e) {
         throw Error(e.code(), file.string() + ": " + e.what());
     } catch (const std::exception& e) {  // nlohmann-json's: the file is not the JSON a config is
@@ -226,7 +229,9 @@ std::string configToJson(const BakeConfig& c) {
                   {"light_points_per_axis", c.trace.light_points_per_axis},
                   {"footprint_step", c.trace.footprint_step},
                   {"photons_primary", c.trace.photons_primary},
-                  {"photons_per_order", c.trace.photons_per_order}, {"max_orders", c.trace.max_orders},
+                  {"photons_per_order", c.trace.photons_per_order},
+                  {"photon_noise_target", c.trace.photon_noise_target},
+                  {"max_photon_scale", c.trace.max_photon_scale}, {"max_orders", c.trace.max_orders},
                   {"order_tolerance", c.trace.order_tolerance},   {"step_voxels", c.trace.step_voxels},
                   {"footprint_samples_per_axis", c.trace.footprint_samples_per_axis}};
     j["compression"] = {{"target_relative_error", c.compression.target_relative_error},

@@ -188,7 +188,9 @@ nlohmann::ordered_json errorsEntry(const FrameBakeReport& fr) {
             {"light_spacing_voxels", fr.light_spacing_voxels},
             {"cell_optical_depth", fr.cell_optical_depth},
             {"last_order_fraction", fr.last_order_fraction},
-            {"scattering_tail_fraction", fr.tail_fraction}};
+            {"scattering_tail_fraction", fr.tail_fraction},
+            {"photon_chains", fr.photon_chains},
+            {"predicted_photon_noise", fr.predicted_photon_noise}};
     if (fr.has_target) entry["storage_target"] = storageTargetEntry(fr);
     return entry;
 }
@@ -212,6 +214,8 @@ FrameBakeReport reportFromMetadata(int frame, const FrameMetadata& kept) {
     fr.cell_optical_depth = e.at("cell_optical_depth");
     fr.last_order_fraction = e.at("last_order_fraction");
     fr.tail_fraction = e.value("scattering_tail_fraction", 0.0);  // packages before 2026-12-03 lack it
+    fr.photon_chains = e.value("photon_chains", 0);                // and before 2026-12-06 these
+    fr.predicted_photon_noise = e.value("predicted_photon_noise", 0.0);
     if (e.contains("storage_target")) {
         const nlohmann::ordered_json& t = e.at("storage_target");
         fr.has_target = true;
@@ -389,6 +393,8 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         fr.scattering_orders = traced.scattering_orders;
         fr.last_order_fraction = traced.last_order_fraction;
         fr.tail_fraction = traced.tail_fraction;
+        fr.photon_chains = traced.photon_chains;
+        fr.predicted_photon_noise = traced.predicted_photon_noise;
         fr.setup_seconds = traced.seconds_setup;
         fr.light_seconds = traced.seconds_light;
         fr.photon_seconds = traced.seconds_photons;

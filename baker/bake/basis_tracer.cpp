@@ -10,12 +10,13 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "bake/camera_march.h"
 #include "bake/index_ray.h"
 #include "bake/light_depth_field.h"
-#include "bake/order_series.h"
+#include "bake/photon_noise.h"
 #include "bake/photon_pass.h"
-#include "bake/photon_start_sampler.h"
 #include "bake/scatter_cells.h"
+#include "bake/scattered_light.h"
 #include "bake/trace_tables.h"
 #include "common/error.h"
 
@@ -101,10 +102,12 @@ TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& cam
                        sizeof(float);
     const auto cellBytes = [&](int edge, std::size_t slots) {
         const std::size_t field = slots * G * C * sizeof(float);
-        // Lbar summed over orders, the previous order, and what a photon pass holds at its peak;
-        // the masses; the per-cell part sums while the cells are built.
-        return 2 * field + photonPassBytes(slots * G * C) + slots * G * sizeof(float) +
-               scatterCellCount(medium, edge) * 2 * tb.n_tc * sizeof(double);
+        // The chains' sum and signed sum (scattered_light.h), the previous order, and what a photon
+        // pass holds at its peak; the masses; the per-cell part sums while the cells are built; the
+        // noise prediction's per-row sums (photon_noise.h).
+        return 3 * field + photonPassBytes(slots * G * C) + slots * G * sizeof(float) +
+               scatterCellCount(medium, edge) * 2 * tb.n_tc * sizeof(double) +
+               kPhotonNoisePixelsPerAxis * G * C * 2 * sizeof(double);
     };
     const int longest = longestInfluenceAxis(medium);
     float max_density = 0.0f;
@@ -180,81 +183,49 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     gate.checkpoint(0.05);
     out.seconds_light = lapSeconds(clock);
 
-    // Scattering orders: Lbar_sum = sum over orders of the mean radiance each produces.
+    // Scattering orders: Lbar summed over orders, from independent photon chains (scattered_light.h).
     // Tracks only feed cell averages and each step is integrated exactly for its extinction: half a
     // cell per step (at least a voxel, which is what the sample's 2-voxel cells get) is enough.
     const double track_step = std::max(1.0, 0.5 * cells.edge) * voxel;
     const TransportContext ctx{medium, tb, cells, light_depths, track_step,
                                static_cast<size_t>(cells.slots) * G * C, gate.stopFlag()};
+    const double min_step = settings.step_voxels * voxel;
     std::vector<float> lbar_sum;
-    if (model.albedo > 0.0) lbar_sum.assign(ctx.field_size, 0.0f);
     if (model.albedo > 0.0 && settings.max_orders > 0) {
-        // Emission photons are drawn half by density and half equally per bin, so rare hot bins
-        // get as many photons as common cool ones. Masses from cube centres, summed per z-layer of
-        // bricks and then in order (the same bytes with any number of threads).
-        const int layers = medium.brickCounts().z;
-        std::vector<double> layer_mass(static_cast<size_t>(layers) * (1 + tb.bins), 0.0);
-        tbb::parallel_for(0, layers, [&](int layer) {
-            double* m = layer_mass.data() + static_cast<size_t>(layer) * (1 + tb.bins);
-            const int size = render::Medium::kBrickSize;
-            forEachCubeInSlab(medium, layer * size, (layer + 1) * size, [&](const glm::ivec3&, float rho, float t) {
-                m[0] += rho;
-                int first, last;
-                tb.binWindow(t, first, last);
-                for (int i = first; i < last; ++i) m[1 + i] += rho * tb.rbf(i, t);
-            });
-        });
-        double density_mass = 0.0;
-        std::vector<double> bin_mass(tb.bins, 0.0);
-        for (int layer = 0; layer < layers; ++layer) {
-            density_mass += layer_mass[static_cast<size_t>(layer) * (1 + tb.bins)];
-            for (int i = 0; i < tb.bins; ++i) bin_mass[i] += layer_mass[static_cast<size_t>(layer) * (1 + tb.bins) + 1 + i];
-        }
-        int active_bins = 0;
-        for (double m : bin_mass) active_bins += m > 0.0;
-        const PhotonStartSampler emission_sampler(medium, [&](float rho, float t) {
-            double per_bin = 0.0;
-            int first, last;
-            tb.binWindow(t, first, last);
-            for (int i = first; i < last; ++i)
-                if (bin_mass[i] > 0.0) per_bin += tb.rbf(i, t) / bin_mass[i];
-            return rho * (0.5 / density_mass + 0.5 * per_bin / std::max(active_bins, 1));
-        });
-        const PhotonStartSampler density_sampler(medium, [](float rho, float) { return double(rho); });
+        ScatteredLightTracer scattered(ctx, model, settings);
         gate.checkpoint(0.08);
-
-        std::vector<float> order =
-            photonPass(ctx, SourceKind::Emission, emission_sampler, nullptr, settings.photons_primary, settings.seed);
-        gate.checkpoint(0.15);
-        if (tb.lights > 0) {
-            const std::vector<float> light = photonPass(ctx, SourceKind::LightScatter, density_sampler, nullptr,
-                                                        settings.photons_primary, settings.seed + 1);
+        const PhotonNoiseInputs noise_inputs{medium, tb, cells, light_depths, camera, min_step,
+                                             scattered.countedColumns()};
+        const auto predict = [&] {
+            const PhotonNoise p =
+                predictPhotonNoise(noise_inputs, scattered.sum(), scattered.signedSum(), scattered.chains(), gate.stopFlag());
             gate.throwIfStopped();
-            for (size_t i = 0; i < order.size(); ++i) order[i] += light[i];
+            return p;
+        };
+        // Two chains: the photons the settings name, and the first noise prediction. Then as many
+        // more as the target asks (noise falls as 1/sqrt(chains)), up to max_photon_scale times the
+        // photons, and the prediction again for the report.
+        scattered.addChains(2, [&](double done) { gate.checkpoint(0.08 + 0.22 * done); });
+        PhotonNoise noise = predict();
+        const double target = settings.photon_noise_target;
+        if (target > 0.0 && noise.worst > target) {
+            const double wanted = 2.0 * (noise.worst / target) * (noise.worst / target);
+            int chains = std::min(2 * settings.max_photon_scale, static_cast<int>(std::ceil(wanted)));
+            chains += chains % 2;  // an even count keeps the noise sample's expectation zero
+            if (chains > 2) {
+                scattered.addChains(chains - 2, [&](double done) { gate.checkpoint(0.3 + 0.28 * done); });
+                noise = predict();
+            }
         }
-        // The stopping test weighs the bins and the scene's own lights only: six-way lights
-        // (basis/six_way_lights.h) then never change how many orders the other columns get, so
-        // every other column is the same bytes as in a bake without them (paths are shared).
-        const int counted = model.six_way_first_light >= 0 ? tb.bins + model.six_way_first_light : C;
-        OrderSeries series(cells, G, C, counted, model.albedo);
-        series.add(order);
-        for (size_t i = 0; i < order.size(); ++i) lbar_sum[i] += order[i];
-        gate.checkpoint(0.25);
-        for (int k = 2; k <= settings.max_orders; ++k) {
-            order = photonPass(ctx, SourceKind::Scattered, density_sampler, &order, settings.photons_per_order,
-                               settings.seed + 16 * k);
-            gate.throwIfStopped();
-            series.add(order);
-            for (size_t i = 0; i < order.size(); ++i) lbar_sum[i] += order[i];
-            gate.checkpoint(0.25 + 0.35 * k / settings.max_orders);
-            if (series.converged(settings.order_tolerance)) break;
-        }
-        // The orders not traced, as the geometric tail of each column's series (order_series.h).
-        const std::vector<float> tail = series.tailFactors();
-        for (size_t i = 0; i < order.size(); ++i) lbar_sum[i] += tail[i % (static_cast<size_t>(G) * C)] * order[i];
-        out.scattering_orders = series.orders();
-        out.last_order_fraction = series.lastOrderFraction();
-        out.tail_fraction = series.tailFraction();
+        out.photon_chains = scattered.chains();
+        out.predicted_photon_noise = noise.worst;
+        out.predicted_photon_noise_median = noise.median;
+        lbar_sum = std::move(scattered).estimate();
+        out.scattering_orders = scattered.orders();
+        out.last_order_fraction = scattered.lastOrderFraction();
+        out.tail_fraction = scattered.tailFraction();
+    } else if (model.albedo > 0.0) {
+        lbar_sum.assign(ctx.field_size, 0.0f);
     }
     gate.checkpoint(0.6);
     out.seconds_photons = lapSeconds(clock);
@@ -262,25 +233,17 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     // Camera rays: exact march of the fine medium, with a step from the pixel footprint.
     const IndexBox box = influenceBox(medium);
     const double pixel_angle = 2.0 * std::tan(0.5 * camera.parameters().yfov_radians) / out.height;
-    const double min_step = settings.step_voxels * voxel;
     std::atomic<int> rows_done{0};
     tbb::parallel_for(tbb::blocked_range<int>(0, out.height, 4), [&](const tbb::blocked_range<int>& rows) {
-        std::vector<float> tau(G), tau_next(G), sigma_t(G), ltau(G), path(G);
-        std::vector<int> entry_of_slot(cells.slots, -1);
-        std::vector<int> touched;
-        std::vector<float> kernel;  // [entry][G]
+        CameraMarch ray_march(medium, tb, cells, light_depths, model.albedo > 0.0);
         std::vector<double> depth_a(tb.n_alpha);
-        float smoke[kMaxAxisSamples], flame[kMaxAxisSamples], d_smoke[kMaxAxisSamples], d_flame[kMaxAxisSamples],
-            lsm[kMaxAxisSamples], lfl[kMaxAxisSamples];
-        int corner_slots[8];
-        float corner_w[8];
         for (int py = rows.begin(); py != rows.end(); ++py) {
             if (gate.stopped()) return;
             for (int px = 0; px < out.width; ++px) {
                 const size_t pixel = static_cast<size_t>(py) * out.width + px;
                 float* row = out.matrix.data() + pixel * out.columns;
-                touched.clear();
-                kernel.clear();
+                ray_march.beginPixel();
+                // The pixel is the mean of its footprint rays: each adds 1/samples of its integral.
                 const float sample_weight = 1.0f / static_cast<float>(out.footprint_samples);
                 for (int sample = 0; sample < out.footprint_samples; ++sample) {
                     const render::Ray world_ray = camera.generateRay(px, py, (sample % per_axis + 0.5) / per_axis,
@@ -289,71 +252,14 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                     double t0, t1;
                     if (!clipToBox(ray, box, t0, t1)) continue;
                     const double step = std::max(min_step, settings.footprint_step * pixel_angle * t0 / per_axis);
-                    std::fill(d_smoke, d_smoke + tb.n_tc, 0.0f);
-                    std::fill(d_flame, d_flame + tb.n_tc, 0.0f);
-                    std::fill(tau.begin(), tau.end(), 1.0f);
-                    bool visible = true;  // some grid point still sees through to here
                     double depth_b = 0.0;
-                    std::fill(depth_a.begin(), depth_a.end(), 0.0);
-                    march(medium, ray, t0, t1, step, [&](const glm::dvec3& p, float dt, float rho, float t) {
-                        if (!(rho > 0.0f)) return true;
-                        depth_b += double(rho) * dt;
-                        const float tcl = tb.clampT(t);
-                        for (int a = 0; a < tb.n_alpha; ++a)
-                            depth_a[a] += double(rho) * std::tanh((tcl - tb.alpha_tc[a]) * tb.inv_2dt) * dt;
-                        if (!visible) return true;  // only the optical depths are still needed
-                        tb.split(rho, t, smoke, flame);
-                        tb.advanceDepths(smoke, flame, dt, d_smoke, d_flame);
-                        tb.transmittance(d_smoke, d_flame, tau_next.data());
-                        tb.extinction(smoke, flame, sigma_t.data());
-                        for (int g = 0; g < G; ++g) path[g] = stepPathLength(tau[g], tau_next[g], sigma_t[g], dt);
-                        // The pixel is the mean of its footprint rays: each adds 1/samples of its integral.
-                        int bin_first, bin_last;
-                        tb.binWindow(t, bin_first, bin_last);
-                        for (int i = bin_first; i < bin_last; ++i) {
-                            const float j = rho * tb.rbf(i, t) * sample_weight;
-                            for (int g = 0; g < G; ++g) row[g * C + i] += path[g] * j;
-                        }
-                        // Single scattering of each directional light.
-                        for (int l = 0; l < tb.lights; ++l) {
-                            light_depths.sample(l, p, lsm, lfl);
-                            tb.transmittance(lsm, lfl, ltau.data());
-                            for (int g = 0; g < G; ++g)
-                                row[g * C + tb.bins + l] +=
-                                    tb.albedo * sigma_t[g] * path[g] * ltau[g] * kInv4Pi * sample_weight;
-                        }
-                        // Scattered light: gather the weights of Lbar's cells, contract once per pixel.
-                        if (model.albedo > 0.0) {
-                            const int n = cells.corners(p, corner_slots, corner_w);
-                            for (int c = 0; c < n; ++c) {
-                                int& entry = entry_of_slot[corner_slots[c]];
-                                if (entry < 0) {
-                                    entry = static_cast<int>(touched.size());
-                                    touched.push_back(corner_slots[c]);
-                                    kernel.resize(kernel.size() + G, 0.0f);
-                                }
-                                float* k = kernel.data() + static_cast<size_t>(entry) * G;
-                                const float w = corner_w[c] * tb.albedo * sample_weight;
-                                for (int g = 0; g < G; ++g) k[g] += w * sigma_t[g] * path[g];
-                            }
-                        }
-                        tau.swap(tau_next);
-                        visible = tb.maxTransmittance(d_smoke, d_flame) > kNegligibleTransmittance;
-                        return true;
-                    });
+                    ray_march.march(ray, t0, t1, step, sample_weight, row, depth_b, depth_a.data());
                     out.depth_b[static_cast<size_t>(sample) * pixels + pixel] = static_cast<float>(depth_b);
                     float* sigmoid_out = out.depth_a.data() + static_cast<size_t>(sample) * tb.n_alpha * pixels + pixel;
                     for (int a = 0; a < tb.n_alpha; ++a) sigmoid_out[a * pixels] = static_cast<float>(depth_a[a]);
                 }
-                for (size_t e = 0; e < touched.size(); ++e) {
-                    const float* k = kernel.data() + e * G;
-                    const float* lbar = lbar_sum.data() + static_cast<size_t>(touched[e]) * G * C;
-                    for (int g = 0; g < G; ++g) {
-                        if (k[g] == 0.0f) continue;
-                        for (int c = 0; c < C; ++c) row[g * C + c] += k[g] * lbar[g * C + c];
-                    }
-                    entry_of_slot[touched[e]] = -1;
-                }
+                // Scattered light: the gathered cells' weights contracted once per pixel.
+                if (!lbar_sum.empty()) ray_march.contract(lbar_sum, row);
             }
             gate.report(0.6 + 0.4 * (rows_done.fetch_add(1) + 1) / out.height);
         }

@@ -12,7 +12,9 @@
 //      transmittance from a lattice of optical depths, light_depth_field.h).
 //   2. Scattering orders: the sigma_s-weighted mean radiance Lbar of each order is estimated on
 //      coarse cells (scatter_cells.h) with a track-length estimator (photon_pass.h); the next
-//      order's source is sigma_s * Lbar. Orders are added until, for every column on its own, the
+//      order's source is sigma_s * Lbar. Independent chains of orders (scattered_light.h) predict
+//      their own photon noise in the image (photon_noise.h); chains are added until it meets
+//      TraceSettings::photon_noise_target. Orders are added until, for every column on its own, the
 //      geometric tail of the orders left is within `order_tolerance` of that column's scattered
 //      power, and that tail is added (order_series.h). The weighting makes each cell's scattered
 //      power exact whatever its size, so cells follow the world extent (a cap per axis), not the
@@ -67,12 +69,21 @@ struct TraceSettings {
     // At most this many light-depth lattice points along any axis (shadow resolution of the
     // single-scattered light): 128 keeps the sample at one point per voxel.
     int light_points_per_axis = 128;
-    // Photons for the primary sources and for each further scattering order. Their noise is
-    // averaged by the cells and then by the SVD: halving both from 262144 / 131072 moved no
-    // regime's error beyond its bar (README, "Accuracy by regime") and paid for the fourth k_f
-    // sample of the design axes (axis_derivation.cpp).
+    // Photons for the primary sources and for each further scattering order, split over two
+    // independent chains (scattered_light.h) whose difference predicts the photon noise. The
+    // target below may multiply them.
     int photons_primary = 131072;
     int photons_per_order = 65536;
+    // The photon noise each column's image may have, as a relative RMSE predicted from the chains
+    // (photon_noise.h): when two chains predict more for any column, the tracer adds chains until
+    // the prediction meets it, up to max_photon_scale times the photons above. 0 keeps the photons
+    // as given. 0.01 because a look mixes columns and the worst look of issue 27's bars may have
+    // 1.5% error in all: measured on the regimes of scripts/bench/accuracy.sh (64x64, predictions
+    // of two chains at these photons), the emission frames' worst columns are 0.3-0.5% (no change),
+    // dense smoke's cold temperature bins 1.5-2.2% (4x the photons: its sunlit column 0.71% ->
+    // 0.36%, which the looks of that regime are made of).
+    double photon_noise_target = 0.01;
+    int max_photon_scale = 4;
     // Scattering orders (photon passes) at most; 0 traces none (direct light and single scattering
     // of the lights only: a diagnostic, tests/bake/scatter_order_report).
     int max_orders = 12;
@@ -139,6 +150,9 @@ struct FrameBasis {
     int scattering_orders = 0;          // orders traced
     double last_order_fraction = 0.0;   // largest share of a column's scattered power the last order added
     double tail_fraction = 0.0;         // largest share of a column's scattered power the added tail is
+    int photon_chains = 0;              // independent photon chains traced (2 = the photons as set)
+    double predicted_photon_noise = 0.0;         // photon_noise.h: the worst column's prediction
+    double predicted_photon_noise_median = 0.0;  // and the median column's
     int cell_edge_voxels = 0;           // what the plan chose
     int light_spacing_voxels = 0;
     double cell_optical_depth = 0.0;

@@ -36,6 +36,8 @@ void writeReportJson(const std::string& path, const bake::BakeReport& report) {
                           {"bytes", f.u_bytes + f.svt_bytes + f.depth_bytes},
                           {"section_bytes", {{"u", f.u_bytes}, {"svt", f.svt_bytes}, {"depths", f.depth_bytes}}},
                           {"scattering_orders", f.scattering_orders},
+                          {"photon_chains", f.photon_chains},
+                          {"predicted_photon_noise", f.predicted_photon_noise},
                           {"trace_seconds", f.trace_seconds},
                           {"trace_stage_seconds",
                            {{"cells_and_sources", f.setup_seconds},
@@ -152,17 +154,24 @@ void registerBakeCommand(CLI::App& app) {
         if (config.target.basis_error > 0.0)
             std::printf("target error %.2e per frame (svd and storage together: 'pred err')\n", config.target.basis_error);
         const bool sized = config.target.package_bytes > 0;
-        std::printf("%6s %5s %10s %10s %10s %9s %9s %9s %9s %7s %9s %9s%s\n", "frame", "rank", "svd err", "store err",
-                    "pred err", "alpha err", "KiB", "U KiB", "depth KiB", "orders", "trace s", "svd s",
-                    sized ? "      q" : "");
+        // "photons": the multiple of the settings' photons the noise target asked for; "noise": the
+        // photon noise it predicts for the worst column's image (relative RMSE).
+        std::printf("%6s %5s %10s %10s %10s %9s %9s %9s %9s %7s %8s %8s %9s %9s%s\n", "frame", "rank", "svd err",
+                    "store err", "pred err", "alpha err", "KiB", "U KiB", "depth KiB", "orders", "photons", "noise %",
+                    "trace s", "svd s", sized ? "      q" : "");
         for (const bake::FrameBakeReport& f : report.frames) {
-            std::printf("%6d %5d %10.2e %10.2e %10.2e %9.1e %9.1f %9.1f %9.1f %7d %9.1f %9.1f", f.frame, f.rank,
-                        f.truncation_error, f.quantisation_error, std::hypot(f.truncation_error, f.quantisation_error),
-                        f.alpha_storage_bound, (f.u_bytes + f.svt_bytes + f.depth_bytes) / 1024.0,
-                        f.u_bytes / 1024.0, f.depth_bytes / 1024.0, f.scattering_orders, f.trace_seconds,
+            std::printf("%6d %5d %10.2e %10.2e %10.2e %9.1e %9.1f %9.1f %9.1f %7d %7.1fx %8.2f %9.1f %9.1f", f.frame,
+                        f.rank, f.truncation_error, f.quantisation_error,
+                        std::hypot(f.truncation_error, f.quantisation_error), f.alpha_storage_bound,
+                        (f.u_bytes + f.svt_bytes + f.depth_bytes) / 1024.0, f.u_bytes / 1024.0, f.depth_bytes / 1024.0,
+                        f.scattering_orders, 0.5 * f.photon_chains, 100.0 * f.predicted_photon_noise, f.trace_seconds,
                         f.compress_seconds);
             if (sized) std::printf(" %6.3f", f.quality_scale);
-            std::printf("%s%s\n", f.has_target && !f.target_met ? "  (over target)" : "", f.resumed ? "  (resumed)" : "");
+            const double noise_target = config.trace.photon_noise_target;
+            std::printf("%s%s%s\n", f.has_target && !f.target_met ? "  (over target)" : "",
+                        noise_target > 0.0 && f.predicted_photon_noise > noise_target ? "  (photon noise over its target)"
+                                                                                      : "",
+                        f.resumed ? "  (resumed)" : "");
         }
         std::printf("bake time %.1f s, peak memory %.0f MiB (budget %.0f MiB)\n", report.seconds,
                     report.peak_memory_kib / 1024.0, report.memory_budget_bytes / 1048576.0);

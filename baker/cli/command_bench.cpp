@@ -225,9 +225,16 @@ double maxOf(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_
 bake::TraceSettings traceSettingsOf(const ordered_json& metadata) {
     bake::TraceSettings t;
     const ordered_json& s = metadata.at("provenance").at("settings").at("trace");
+    // Keys a package may lack (recorded only by later versions) keep the defaults.
     t.cell_voxels = s.at("cell_voxels");
+    t.max_cells_per_axis = s.value("max_cells_per_axis", t.max_cells_per_axis);
+    t.max_cell_optical_depth = s.value("max_cell_optical_depth", t.max_cell_optical_depth);
+    t.light_points_per_axis = s.value("light_points_per_axis", t.light_points_per_axis);
+    t.footprint_step = s.value("footprint_step", t.footprint_step);
     t.photons_primary = s.at("photons_primary");
     t.photons_per_order = s.at("photons_per_order");
+    t.photon_noise_target = s.value("photon_noise_target", 0.0);  // packages from before it: fixed photons
+    t.max_photon_scale = s.value("max_photon_scale", t.max_photon_scale);
     t.max_orders = s.at("max_orders");
     t.order_tolerance = s.at("order_tolerance");
     t.step_voxels = s.at("step_voxels");

@@ -41,11 +41,13 @@ inline BasisModel basisModel(int bins, double albedo, const basis::ParameterAxes
     return m;
 }
 
-// Few photons, so that the whole suite stays fast under sanitizers.
+// Few photons, so that the whole suite stays fast under sanitizers; as many as given (no noise
+// target: it would multiply so few photons by max_photon_scale).
 inline TraceSettings fastTrace(uint64_t seed = 1) {
     TraceSettings s;
     s.photons_primary = 2000;
     s.photons_per_order = 2000;
+    s.photon_noise_target = 0.0;
     s.max_orders = 8;
     s.seed = seed;
     return s;

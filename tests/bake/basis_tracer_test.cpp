@@ -331,5 +331,75 @@ TEST(BasisTracer, ThickEmitterGlowsWithItsSourceFunction) {
     }
 }
 
+// The photon-noise prediction (baker/bake/photon_noise.h) against the noise it predicts: four
+// bakes of thick, high-albedo smoke lit by a sun (the regime where photon noise is largest) with
+// only their seeds different. Per column, the spread between the four images (sample variance per
+// pixel, over the mean image's energy) is the photon noise one bake has; the prediction of each
+// bake comes from its own two chains. Tolerance: the spread of four bakes has 3 degrees of freedom
+// per pixel and each prediction one noise sample, both over ~50 cells across the image, so each is
+// good to ~25%; 0.6-1.6 allows for both.
+TEST(BasisTracer, PredictedPhotonNoiseMatchesTheSpreadBetweenSeeds) {
+    ScatteringBox box;
+    box.model = basisModel(2, 0.9, {{0.3}, {16.0}, {0.5}});
+    box.medium = unitBox(0.5f, 0.1f, 16);
+    box.camera = headOnCamera(16);
+    const int seeds = 4, C = box.model.columnsPerPoint(), pixels = 16 * 16;
+    std::vector<FrameBasis> bakes;
+    double predicted2 = 0.0;
+    for (int seed = 1; seed <= seeds; ++seed) {
+        TraceSettings settings = fastTrace(static_cast<uint64_t>(seed));
+        settings.photons_primary = settings.photons_per_order = 4000;
+        settings.max_orders = 30;
+        bakes.push_back(traceFrameBasis(box.medium, box.camera, box.model, settings));
+        EXPECT_EQ(bakes.back().photon_chains, 2);
+        predicted2 += bakes.back().predicted_photon_noise * bakes.back().predicted_photon_noise / seeds;
+    }
+    double worst = 0.0;
+    for (int c = 0; c < C; ++c) {
+        double energy = 0.0, variance = 0.0;
+        for (int p = 0; p < pixels; ++p) {
+            double mean = 0.0, square = 0.0;
+            for (const FrameBasis& b : bakes) {
+                const double v = basisValue(b, box.model, p, 0, c);
+                mean += v / seeds;
+                square += v * v / seeds;
+            }
+            energy += mean * mean;
+            variance += (square - mean * mean) * seeds / (seeds - 1);
+        }
+        const double spread = std::sqrt(variance / energy);
+        std::printf("[measured] column %d: photon noise between seeds %.4f\n", c, spread);
+        worst = std::max(worst, spread);
+    }
+    const double predicted = std::sqrt(predicted2);
+    std::printf("[measured] worst column: between seeds %.4f, predicted %.4f (ratio %.2f)\n", worst, predicted,
+                worst / predicted);
+    EXPECT_GT(worst / predicted, 0.6);
+    EXPECT_LT(worst / predicted, 1.6);
+}
+
+// The photon budget follows the target: two chains (the photons as set) when the prediction meets
+// it or there is none, more when it does not, never more than max_photon_scale times the photons;
+// and more chains predict less noise (1/sqrt(chains): 1/2 for 8 chains against 2, within the
+// predictions' own noise of ~25%).
+TEST(BasisTracer, PhotonBudgetFollowsTheNoiseTarget) {
+    ScatteringBox box;
+    TraceSettings settings = fastTrace(5);
+    const FrameBasis fixed = traceFrameBasis(box.medium, box.camera, box.model, settings);
+    EXPECT_EQ(fixed.photon_chains, 2);
+    ASSERT_GT(fixed.predicted_photon_noise, 0.0);
+    settings.photon_noise_target = 2.0 * fixed.predicted_photon_noise;
+    EXPECT_EQ(traceFrameBasis(box.medium, box.camera, box.model, settings).photon_chains, 2);
+    settings.photon_noise_target = 1e-6;
+    settings.max_photon_scale = 4;
+    const FrameBasis scaled = traceFrameBasis(box.medium, box.camera, box.model, settings);
+    EXPECT_EQ(scaled.photon_chains, 8);
+    const double ratio = scaled.predicted_photon_noise / fixed.predicted_photon_noise;
+    std::printf("[measured] predicted photon noise: 2 chains %.4f, 8 chains %.4f (ratio %.2f)\n",
+                fixed.predicted_photon_noise, scaled.predicted_photon_noise, ratio);
+    EXPECT_GT(ratio, 0.5 * 0.7);
+    EXPECT_LT(ratio, 0.5 * 1.3);
+}
+
 }  // namespace
 }  // namespace firelook::bake

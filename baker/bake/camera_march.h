@@ -1,0 +1,47 @@
+// One camera ray of the basis tracer (basis_tracer.h, step 3), shared by the image itself and by the
+// photon-noise estimate (photon_noise.h): the ray marches the exact fine medium once and adds, for
+// every grid point and column at once, the direct emission and the lights' single scattering to a
+// pixel's row, the optical depths alpha needs, and the weights of the cells whose scattered light it
+// gathers. contract() then adds those cells' Lbar (or any field of the same shape) to a row: the
+// per-cell work is done once per pixel, not once per step.
+#pragma once
+
+#include <vector>
+
+#include "bake/index_ray.h"
+#include "bake/light_depth_field.h"
+#include "bake/scatter_cells.h"
+#include "bake/trace_tables.h"
+#include "render/medium.h"
+
+namespace firelook::bake {
+
+class CameraMarch {
+  public:
+    // `scattering`: whether the medium scatters at all (albedo > 0); without it no cell is gathered.
+    CameraMarch(const render::Medium& medium, const TraceTables& tables, const ScatterCells& cells,
+                const LightDepthField& light_depths, bool scattering);
+
+    // Forgets the cells gathered for the previous pixel.
+    void beginPixel();
+    // Marches [t0, t1] of `ray` in steps of `step`: adds `weight` times the ray's direct integrals
+    // to row (points x columns) and to the gathered cells' weights. depth_b and depth_a[alpha] get the
+    // ray's optical depths (not weighted).
+    void march(const IndexRay& ray, double t0, double t1, double step, float weight, float* row, double& depth_b,
+               double* depth_a);
+    // row += for every cell gathered since beginPixel: its weights times field (slots x points x columns).
+    void contract(const std::vector<float>& field, float* row) const;
+
+  private:
+    const render::Medium& medium_;
+    const TraceTables& tb_;
+    const ScatterCells& cells_;
+    const LightDepthField& light_depths_;
+    bool scattering_;
+    std::vector<float> tau_, tau_next_, sigma_t_, ltau_, path_;
+    std::vector<int> entry_of_slot_;  // -1, or the index of the slot in touched_
+    std::vector<int> touched_;
+    std::vector<float> kernel_;  // [entry][point]
+};
+
+}  // namespace firelook::bake

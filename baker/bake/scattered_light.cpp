@@ -1,0 +1,116 @@
+#include "bake/scattered_light.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
+#include "bake/order_series.h"
+
+namespace firelook::bake {
+namespace {
+
+// Seeds of chain c's passes: emission base, lights base + 1, order k base + 16 k (k <= 64); chains
+// are 2^20 apart, so no two passes of a frame share a stream.
+std::uint64_t chainSeed(std::uint64_t seed, int chain) { return seed + (std::uint64_t(1) << 20) * chain; }
+
+}  // namespace
+
+ScatteredLightTracer::ScatteredLightTracer(const TransportContext& ctx, const BasisModel& model,
+                                           const TraceSettings& settings)
+    : ctx_(ctx),
+      settings_(settings),
+      albedo_(model.albedo),
+      counted_(model.six_way_first_light >= 0 ? ctx.tables.bins + model.six_way_first_light : ctx.tables.columns),
+      photons_primary_(std::max(1, settings.photons_primary / 2)),
+      photons_per_order_(std::max(1, settings.photons_per_order / 2)),
+      sum_(ctx.field_size, 0.0f),
+      signed_sum_(ctx.field_size, 0.0f) {
+    const TraceTables& tb = ctx.tables;
+    const render::Medium& medium = ctx.medium;
+    // Emission photons are drawn half by density and half equally per bin, so rare hot bins get as
+    // many photons as common cool ones. Masses from cube centres, summed per z-layer of bricks and
+    // then in order (the same bytes with any number of threads).
+    const int layers = medium.brickCounts().z;
+    std::vector<double> layer_mass(static_cast<size_t>(layers) * (1 + tb.bins), 0.0);
+    tbb::parallel_for(0, layers, [&](int layer) {
+        double* m = layer_mass.data() + static_cast<size_t>(layer) * (1 + tb.bins);
+        const int size = render::Medium::kBrickSize;
+        forEachCubeInSlab(medium, layer * size, (layer + 1) * size, [&](const glm::ivec3&, float rho, float t) {
+            m[0] += rho;
+            int first, last;
+            tb.binWindow(t, first, last);
+            for (int i = first; i < last; ++i) m[1 + i] += rho * tb.rbf(i, t);
+        });
+    });
+    double density_mass = 0.0;
+    std::vector<double> bin_mass(tb.bins, 0.0);
+    for (int layer = 0; layer < layers; ++layer) {
+        density_mass += layer_mass[static_cast<size_t>(layer) * (1 + tb.bins)];
+        for (int i = 0; i < tb.bins; ++i) bin_mass[i] += layer_mass[static_cast<size_t>(layer) * (1 + tb.bins) + 1 + i];
+    }
+    int active_bins = 0;
+    for (double m : bin_mass) active_bins += m > 0.0;
+    emission_sampler_ = std::make_unique<PhotonStartSampler>(medium, [&tb, bin_mass, density_mass, active_bins](
+                                                                         float rho, float t) {
+        double per_bin = 0.0;
+        int first, last;
+        tb.binWindow(t, first, last);
+        for (int i = first; i < last; ++i)
+            if (bin_mass[i] > 0.0) per_bin += tb.rbf(i, t) / bin_mass[i];
+        return rho * (0.5 / density_mass + 0.5 * per_bin / std::max(active_bins, 1));
+    });
+    density_sampler_ = std::make_unique<PhotonStartSampler>(medium, [](float rho, float) { return double(rho); });
+}
+
+void ScatteredLightTracer::addChains(int count, const std::function<void(double)>& progress) {
+    for (int i = 0; i < count; ++i)
+        traceChain(chains_, [&](double done) { progress((i + done) / count); });
+}
+
+void ScatteredLightTracer::traceChain(int chain, const std::function<void(double)>& progress) {
+    const TraceTables& tb = ctx_.tables;
+    const int G = tb.points, C = tb.columns;
+    const std::uint64_t seed = chainSeed(settings_.seed, chain);
+    const float sign = chain % 2 == 0 ? 1.0f : -1.0f;
+    const auto add = [&](const std::vector<float>& field, const float* factor) {
+        for (std::size_t i = 0; i < field.size(); ++i) {
+            const float v = factor ? factor[i % (static_cast<std::size_t>(G) * C)] * field[i] : field[i];
+            sum_[i] += v;
+            signed_sum_[i] += sign * v;
+        }
+    };
+    std::vector<float> order = photonPass(ctx_, SourceKind::Emission, *emission_sampler_, nullptr, photons_primary_, seed);
+    progress(0.1);
+    if (tb.lights > 0) {
+        const std::vector<float> light =
+            photonPass(ctx_, SourceKind::LightScatter, *density_sampler_, nullptr, photons_primary_, seed + 1);
+        for (size_t i = 0; i < order.size(); ++i) order[i] += light[i];
+    }
+    OrderSeries series(ctx_.cells, G, C, counted_, albedo_);
+    series.add(order);
+    add(order, nullptr);
+    progress(0.2);
+    for (int k = 2; k <= settings_.max_orders; ++k) {
+        order = photonPass(ctx_, SourceKind::Scattered, *density_sampler_, &order, photons_per_order_, seed + 16 * k);
+        series.add(order);
+        add(order, nullptr);
+        progress(0.2 + 0.8 * k / settings_.max_orders);
+        if (series.converged(settings_.order_tolerance)) break;
+    }
+    // The orders not traced, as the geometric tail of each column's series (order_series.h).
+    const std::vector<float> tail = series.tailFactors();
+    add(order, tail.data());
+    ++chains_;
+    orders_ = std::max(orders_, series.orders());
+    last_order_fraction_ = std::max(last_order_fraction_, series.lastOrderFraction());
+    tail_fraction_ = std::max(tail_fraction_, series.tailFraction());
+}
+
+std::vector<float> ScatteredLightTracer::estimate() && {
+    const float inv = 1.0f / static_cast<float>(std::max(chains_, 1));
+    for (float& v : sum_) v *= inv;
+    std::vector<float>().swap(signed_sum_);
+    return std::move(sum_);
+}
+
+}  // namespace firelook::bake

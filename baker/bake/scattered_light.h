@@ -1,0 +1,65 @@
+// The scattered light of one frame (basis_tracer.h, step 2): Lbar summed over every scattering order,
+// from independent photon chains, with a field that measures its own photon noise.
+//
+// A chain is one complete estimate: the primary passes (emission, the lights' single scattering),
+// then one pass per further order from the previous order's field, until its OrderSeries converges,
+// then the geometric tail. Chains use disjoint seeds, so they are independent and identically
+// distributed; the mean of k chains is the estimate, and their alternating-sign mean
+// (A1 - A2 + A3 - ... ) / k has zero expectation and exactly the covariance of that estimate's
+// photon noise, including the noise each order hands on to the next. photon_noise.h carries it
+// through the camera to predict each column's image noise, and the tracer adds chains until that
+// prediction meets TraceSettings::photon_noise_target.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "bake/basis_tracer.h"
+#include "bake/photon_pass.h"
+#include "bake/photon_start_sampler.h"
+
+namespace firelook::bake {
+
+class ScatteredLightTracer {
+  public:
+    // Photons per chain: half of settings.photons_primary / photons_per_order, so two chains hold
+    // what those settings name.
+    ScatteredLightTracer(const TransportContext& ctx, const BasisModel& model, const TraceSettings& settings);
+
+    // Traces `count` more chains (keep the total even: the noise field's expectation is zero only
+    // for as many + as - chains). progress(done) gets the share of these chains done; it may throw
+    // to cancel (a cancelled trace leaves the fields meaningless).
+    void addChains(int count, const std::function<void(double)>& progress);
+
+    int chains() const { return chains_; }
+    // Sums over the chains: divide by chains() for the estimate and its noise sample.
+    const std::vector<float>& sum() const { return sum_; }
+    const std::vector<float>& signedSum() const { return signed_sum_; }
+    // Ends the tracing: the mean of the chains (the sum divided by their count), moved out.
+    std::vector<float> estimate() &&;
+
+    // Columns 0..counted-1 of each grid point decide the orders and the photon budget; six-way lights
+    // (basis/six_way_lights.h) come after them and never change either, so every other column is the
+    // same bytes as in a bake without them.
+    int countedColumns() const { return counted_; }
+    int orders() const { return orders_; }  // the most any chain traced
+    double lastOrderFraction() const { return last_order_fraction_; }
+    double tailFraction() const { return tail_fraction_; }
+
+  private:
+    void traceChain(int chain, const std::function<void(double)>& progress);
+
+    const TransportContext& ctx_;
+    const TraceSettings& settings_;
+    double albedo_;
+    int counted_;
+    int photons_primary_, photons_per_order_;
+    std::unique_ptr<PhotonStartSampler> emission_sampler_, density_sampler_;
+    std::vector<float> sum_, signed_sum_;
+    int chains_ = 0;
+    int orders_ = 0;
+    double last_order_fraction_ = 0.0, tail_fraction_ = 0.0;
+};
+
+}  // namespace firelook::bake
