@@ -20,6 +20,7 @@
 #include "common/error.h"
 #include "look/look.h"
 #include "package/container_writer.h"
+#include "reference/frame_medium.h"
 #include "vdb/volume_frame.h"
 
 namespace firelook::bake {
@@ -110,7 +111,7 @@ SequenceSurvey surveySequence(const vdb::VdbSequence& sequence, const std::funct
     SequenceSurvey survey;
     for (int frame : selectFrames(sequence, "")) {
         if (keep_going && !keep_going(frame)) throw Error(ErrorCode::Cancelled, "cancelled");
-        const render::Medium medium = mediumFromFrame(sequence.load(frame));
+        const render::Medium medium = reference::mediumFromFrame(sequence.load(frame));
         survey.temperatures.merge(densityTemperatureRange(medium));
         survey.density.merge(densityDepth(medium));
     }
@@ -367,7 +368,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
                               {"cleaned_negative_density", frame.cleaned_negative_density},
                               {"clamped_extreme", frame.density_cleaned.clamped + frame.temperature_cleaned.clamped}};
             fr.active_voxels = frame.density_stats.active_voxels;
-            return mediumFromFrame(frame);
+            return reference::mediumFromFrame(frame);
         }();
 
         TraceSettings trace = config.trace;

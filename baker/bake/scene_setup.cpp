@@ -10,7 +10,6 @@
 #include "basis/six_way_lights.h"
 #include "common/error.h"
 #include "gltf/gltf_scene.h"
-#include "vdb/dense_volume.h"
 #include "vdb/frame_grids.h"
 
 namespace firelook::bake {
@@ -60,12 +59,6 @@ SceneSetup resolveScene(const vdb::VdbSequence& sequence, const SceneOptions& op
         }
     }
     return setup;
-}
-
-render::Medium mediumFromFrame(const vdb::VolumeFrame& frame) {
-    const vdb::DenseVolume dense = vdb::toDense(frame);
-    if (dense.voxelCount() == 0) return render::Medium();
-    return render::Medium(dense.origin, dense.dims, dense.density, dense.temperature, dense.index_to_world, 0.0f);
 }
 
 std::pair<double, double> sequenceTemperatureRange(const vdb::VdbSequence& sequence) {

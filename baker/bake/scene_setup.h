@@ -39,9 +39,6 @@ struct SceneSetup {
 // options.six_way_lights the six camera-relative lights follow, with zero colour.
 SceneSetup resolveScene(const vdb::VdbSequence& sequence, const SceneOptions& options);
 
-// The tracers' medium for one loaded frame (dense copy of the sparse grids).
-render::Medium mediumFromFrame(const vdb::VolumeFrame& frame);
-
 // [min, max] of the temperature over every frame of the sequence (loads each frame once).
 // The range includes the temperature grids' background (ambient air: 0 for Blender's heat, 300 in
 // Kelvin), so ambient air sits in bin 0.

@@ -38,6 +38,8 @@
 #include "render/footprint_transmittance.h"
 #include "render/random.h"
 #include "render/reference_tracer.h"
+#include "reference/frame_medium.h"
+#include "reference/provenance_read_options.h"
 #include "world/package_camera.h"
 
 namespace firelook::cli {
@@ -300,16 +302,11 @@ void registerBenchCommand(CLI::App& app) {
         camera_parameters.height = baked->height;
         const render::Camera camera(camera_parameters);
         const std::string camera_key = metadata.at("camera").dump();  // the reference cache's key, as before
-        vdb::ReadOptions read;
-        const ordered_json& prov = metadata.at("provenance");
-        read.density_grid = prov.at("density_grid");
-        read.temperature_grid = prov.at("temperature_grid");
-        read.temperature_scale = prov.at("temperature_scale");
-        read.temperature_offset = prov.at("temperature_offset");
-        read.density_scale = prov.value("density_scale", 1.0);  // recorded only when not 1
+        vdb::ReadOptions read = reference::provenanceReadOptions(package.metadataJson(), args->package);
+        const bool baked_clamped = read.clamp_extreme;
         applySequenceFlags(args->sequence_flags, read);
-        // A package baked with --clamp-extreme saw clamped data: its references must too.
-        if (prov.value("clamp_extreme", false)) read.clamp_extreme = true;
+        // --clamp-extreme adds to the bake's: a package baked with it saw clamped data, and so must its references.
+        read.clamp_extreme = read.clamp_extreme || baked_clamped;
         const vdb::VdbSequence sequence = vdb::VdbSequence::open(args->sequence, read);
         std::vector<int> frames = args->frames;
         if (frames.empty()) {
@@ -319,7 +316,7 @@ void registerBenchCommand(CLI::App& app) {
         }
         if (!args->reference_cache.empty()) std::filesystem::create_directories(args->reference_cache);
         const bake::TraceSettings trace = traceSettingsOf(metadata);
-        const uint64_t bake_seed = prov.at("settings").at("seed");
+        const uint64_t bake_seed = metadata.at("provenance").at("settings").at("seed");
 
         ordered_json rows = ordered_json::array();
         std::vector<double> rmse, ref_noise, mean_bias, channel_bias, mean_noise, b_trace, b_interp, b_compress, alpha_error, corrected, e_trace, e_interp, e_compress, coeff_us, image_ms;
@@ -329,7 +326,7 @@ void registerBenchCommand(CLI::App& app) {
         int done = 0;
         for (int frame : frames) {
             throwIfInterrupted();
-            const render::Medium medium = bake::mediumFromFrame(sequence.load(frame));
+            const render::Medium medium = reference::mediumFromFrame(sequence.load(frame));
             throwIfInterrupted();
             // Built on the first look whose exact alpha is not cached: marching 8x8 rays per
             // pixel is the slow part of a cached bench run.

@@ -14,6 +14,7 @@
 #include "common/error.h"
 #include "image/image_io.h"
 #include "look/look.h"
+#include "reference/frame_medium.h"
 #include "render/reference_tracer.h"
 
 namespace firelook::cli {
@@ -56,7 +57,7 @@ void registerReferenceCommand(CLI::App& app) {
             model.lights.push_back({basis::checkedUnitDirection(*light), light->irradiance});
         }
         throwIfInterrupted();
-        const render::Medium medium = bake::mediumFromFrame(sequence.load(args->frame));
+        const render::Medium medium = reference::mediumFromFrame(sequence.load(args->frame));
         throwIfInterrupted();
 
         render::ReferenceSettings settings;

@@ -8,12 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fl_check.h"
-#include "look/look.h"
-#include "render/camera.h"
-#include "render/medium.h"
 #include "render/reference_tracer.h"
-#include "vdb/dense_volume.h"
-#include "vdb/vdb_sequence.h"
 
 namespace firelook::viewer {
 namespace {
@@ -25,30 +20,27 @@ bool sequenceExists(const std::filesystem::path& p) {
     return p.string().find('#') != std::string::npos && std::filesystem::is_directory(p.parent_path(), e);
 }
 
-render::Camera cameraOf(const fl_camera& c) {
-    render::CameraParameters p;
-    std::copy(std::begin(c.world_from_camera), std::end(c.world_from_camera), p.world_from_camera.begin());
-    p.yfov_radians = c.yfov_radians;
-    p.width = c.width;
-    p.height = c.height;
-    return render::Camera(p);
-}
-
 }  // namespace
 
-ReferenceScene readReferenceScene(fl_package package, const fl_package_info& info) {
-    ReferenceScene scene;
-    check(fl_package_get_camera(package, &scene.camera), "fl_package_get_camera");
+reference::BakedScene readReferenceScene(fl_package package, const fl_package_info& info) {
+    reference::BakedScene scene;
+    fl_camera camera = fl_camera_defaults();
+    check(fl_package_get_camera(package, &camera), "fl_package_get_camera");
+    std::copy(std::begin(camera.world_from_camera), std::end(camera.world_from_camera),
+              scene.camera.world_from_camera.begin());
+    scene.camera.yfov_radians = camera.yfov_radians;
+    scene.camera.width = camera.width;
+    scene.camera.height = camera.height;
     uint32_t count = 0;
     check(fl_package_get_lights(package, nullptr, nullptr, 0, &count), "fl_package_get_lights");
     std::vector<double> directions(3 * size_t{count});
     if (count > 0)
         check(fl_package_get_lights(package, directions.data(), nullptr, count, &count), "fl_package_get_lights");
     for (uint32_t l = 0; l < count; ++l)
-        scene.light_directions.push_back({directions[3 * l], directions[3 * l + 1], directions[3 * l + 2]});
-    scene.temperature_lo = info.temperature_lo;
-    scene.temperature_hi = info.temperature_hi;
-    scene.bin_count = info.bin_count;
+        scene.light_directions.emplace_back(directions[3 * l], directions[3 * l + 1], directions[3 * l + 2]);
+    scene.bins.t_lo = info.temperature_lo;
+    scene.bins.t_hi = info.temperature_hi;
+    scene.bins.count = info.bin_count;
     scene.rbf_width = info.rbf_width;
     size_t size = 0;
     check(fl_package_get_metadata_json(package, nullptr, 0, &size), "fl_package_get_metadata_json");
@@ -109,41 +101,19 @@ void ReferenceWorker::run(ReferenceRequest request) {
     s.target_spp = request.target_spp;
     const auto start = std::chrono::steady_clock::now();
     try {
-        // Everything the bake used: camera, bins and lights (C API), sequence and grid mapping (META).
-        const ReferenceScene& scene = request.scene;
-        const render::Camera camera = cameraOf(scene.camera);
-        const nlohmann::json meta = nlohmann::json::parse(scene.metadata_json);
-        const nlohmann::json provenance = meta.value("provenance", nlohmann::json::object());
-        const std::string recorded = provenance.value("sequence", std::string());
+        // Everything the bake used: camera, bins and lights (C API), the sequence (META's provenance).
+        const nlohmann::json meta = nlohmann::json::parse(request.scene.metadata_json);
+        const std::string recorded =
+            meta.value("provenance", nlohmann::json::object()).value("sequence", std::string());
         s.sequence_path = request.sequence_override.empty() ? resolveSequencePath(recorded, request.package_path)
                                                              : request.sequence_override;
         if (s.sequence_path.empty())
             throw std::runtime_error("the sequence recorded in " + request.package_path + " (\"" + recorded +
                                      "\") was not found; give its path (QA panel or --sequence)");
-        vdb::ReadOptions read;
-        read.density_grid = provenance.value("density_grid", std::string());
-        read.temperature_grid = provenance.value("temperature_grid", std::string());
-        read.temperature_scale = provenance.value("temperature_scale", 1.0);
-        read.temperature_offset = provenance.value("temperature_offset", 0.0);
-        read.density_scale = provenance.value("density_scale", 1.0);  // recorded only when not 1
-
         s.status = "loading frame " + std::to_string(request.frame) + " of " + s.sequence_path;
         publish(s);
-        const vdb::VdbSequence sequence = vdb::VdbSequence::open(s.sequence_path, read);
-        const vdb::DenseVolume dense = vdb::toDense(sequence.load(request.frame));
-        // As bake::mediumFromFrame: a dense copy of the sparse grids.
-        const render::Medium medium = dense.voxelCount() == 0
-                                          ? render::Medium()
-                                          : render::Medium(dense.origin, dense.dims, dense.density,
-                                                           dense.temperature, dense.index_to_world, 0.0f);
-        const Look look = parseLook(request.look_json, "QA look");
-        TemperatureBins bins;
-        bins.t_lo = scene.temperature_lo;
-        bins.t_hi = scene.temperature_hi;
-        bins.count = scene.bin_count;
-        std::vector<glm::dvec3> lights;
-        for (const auto& l : scene.light_directions) lights.emplace_back(l[0], l[1], l[2]);
-        const LookModel model = makeLookModel(look, bins, scene.rbf_width, lights);
+        const reference::ReferenceInputs in = reference::referenceInputs(
+            request.scene, request.package_path, s.sequence_path, request.frame, request.look_json);
 
         render::ReferenceSettings settings;
         settings.samples_per_pixel = request.spp_per_pass;
@@ -154,7 +124,7 @@ void ReferenceWorker::run(ReferenceRequest request) {
         while (!cancel_ && s.spp < request.target_spp) {
             settings.seed = 1 + static_cast<uint64_t>(passes);  // independent passes
             const render::ReferenceResult r =
-                render::renderReference(medium, model, camera, settings, [&](double) { return !cancel_.load(); });
+                render::renderReference(in.medium, in.model, in.camera, settings, [&](double) { return !cancel_.load(); });
             if (r.cancelled || cancel_) break;
             if (sum.empty()) {
                 sum.assign(r.image.rgba.size(), 0.0);

@@ -4,11 +4,11 @@
 //
 // The package records what a reference needs; the UI thread reads it through the C API
 // (readReferenceScene: camera, light directions, bins, RBF width, and META's "provenance" for the
-// sequence path and grid mapping), so the worker only reads the sequence (firelook::vdb) and
-// traces (firelook::render). No second copy of the package reader is in the process.
+// sequence path and grid mapping), and firelook::reference turns it into the tracer's inputs
+// (baker/reference/reference_inputs.h: the sequence read as the bake read it, --clamp-extreme
+// included, and the look model). No second copy of the package reader is in the process.
 #pragma once
 
-#include <array>
 #include <atomic>
 #include <cstdint>
 #include <mutex>
@@ -17,24 +17,16 @@
 #include <vector>
 
 #include "firelook/firelook.h"
+#include "reference/reference_inputs.h"
 
 namespace firelook::viewer {
 
-// What the bake used, as the C API gives it.
-struct ReferenceScene {
-    fl_camera camera = fl_camera_defaults();
-    std::vector<std::array<double, 3>> light_directions;  // unit, the direction each light travels
-    double temperature_lo = 0.0, temperature_hi = 1.0;
-    int bin_count = 0;
-    double rbf_width = 0.0;
-    std::string metadata_json;  // META: "provenance" names the sequence and its grids
-};
-
-// Throws ViewerError with the library's message (e.g. a package that records no camera).
-ReferenceScene readReferenceScene(fl_package package, const fl_package_info& info);
+// What the bake used, as the C API gives it. Throws ViewerError with the library's message (e.g. a
+// package that records no camera).
+reference::BakedScene readReferenceScene(fl_package package, const fl_package_info& info);
 
 struct ReferenceRequest {
-    ReferenceScene scene;
+    reference::BakedScene scene;
     std::string package_path;  // for finding a relative sequence, and messages
     std::string sequence_override;  // empty: the sequence recorded in the package
     int frame = 0;

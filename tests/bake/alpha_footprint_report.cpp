@@ -13,6 +13,7 @@
 
 #include "bake/scene_setup.h"
 #include "render/ray.h"
+#include "reference/frame_medium.h"
 
 using namespace firelook;
 
@@ -61,7 +62,7 @@ int main(int argc, char** argv) {
     options.up = render::UpAxis::Z;
     std::tie(options.width, options.height) = bake::parseSize(argv[3]);
     const bake::SceneSetup scene = bake::resolveScene(sequence, options);
-    const render::Medium medium = bake::mediumFromFrame(sequence.load(frame));
+    const render::Medium medium = reference::mediumFromFrame(sequence.load(frame));
     const auto [t_lo, t_hi] = bake::sequenceTemperatureRange(sequence);
 
     const int counts[] = {1, 2, 3, 4, 5, 6, 8};

@@ -16,6 +16,7 @@
 #include "basis/look_renderer.h"
 #include "look/look.h"
 #include "package_images.h"
+#include "reference/frame_medium.h"
 #include "tiny_sample_bake.h"
 #include "vdb/vdb_sequence.h"
 
@@ -126,7 +127,7 @@ TEST(BakePipeline, DefaultBudgetIsSixtyPercentOfPhysicalMemory) {
 // never exceeds the budget it was given.
 TEST(BakePipeline, TightBudgetCoarsensTheCells) {
     const vdb::VdbSequence sequence = vdb::VdbSequence::open(FIRELOOK_SAMPLE_DIR);
-    const render::Medium medium = mediumFromFrame(sequence.load(6));
+    const render::Medium medium = reference::mediumFromFrame(sequence.load(6));
     const BakeConfig c = tinyConfig();
     const SceneSetup scene = resolveScene(sequence, c.scene);
     const BasisModel model = describeBake(sequence, c, scene);

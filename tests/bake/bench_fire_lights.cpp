@@ -25,6 +25,7 @@
 #include "look/look.h"
 #include "render/fluence_probe.h"
 #include "render/random.h"
+#include "reference/frame_medium.h"
 #include "vdb/vdb_sequence.h"
 #include "world/look_track.h"
 
@@ -61,7 +62,7 @@ int main(int argc, char** argv) {
         if (!table) throw std::runtime_error(std::string(argv[1]) + ": frame " + argv[3] + " has no fire lights");
         const package::SectionInfo* section = package.reader().find(basis::kSectionFireLights, static_cast<uint32_t>(frame));
         const vdb::VdbSequence sequence = vdb::VdbSequence::open(argv[2], {});
-        const render::Medium medium = bake::mediumFromFrame(sequence.load(frame));
+        const render::Medium medium = reference::mediumFromFrame(sequence.load(frame));
         const render::WorldBox box = medium.worldBounds();
         const glm::dvec3 centre = 0.5 * (box.min + box.max), half = 0.5 * box_scale * (box.max - box.min);
         std::vector<glm::dvec3> points;

@@ -19,6 +19,7 @@
 
 #include "bake/basis_tracer.h"
 #include "bake/scene_setup.h"
+#include "reference/frame_medium.h"
 #include "render/reference_tracer.h"
 
 using namespace firelook;
@@ -67,7 +68,7 @@ int main(int argc, char** argv) {
     const vdb::VdbSequence sequence = vdb::VdbSequence::open(argv[1], {.clamp_extreme = std::getenv("CLAMP_EXTREME") != nullptr});
     std::tie(options.width, options.height) = bake::parseSize(argv[3]);
     const bake::SceneSetup scene = bake::resolveScene(sequence, options);
-    const render::Medium medium = bake::mediumFromFrame(sequence.load(frame));
+    const render::Medium medium = reference::mediumFromFrame(sequence.load(frame));
     const auto [t_lo, t_hi] = bake::sequenceTemperatureRange(sequence);
 
     bake::BasisModel model;

@@ -180,6 +180,10 @@ TEST(CliDataChecks, ClampedExtremeDensityBakesLikeTheReference) {
     writeFrame(dir / "seq", 1, density, ramp());
     CommandResult r = runFirelook(dir, "bake seq --size 16x16 --clamp-extreme -o huge.firelook");
     ASSERT_EQ(r.exit_code, 0) << r.err;
+    // bench reads the sequence as the package's provenance says, so without the flag it clamps too.
+    r = runFirelook(dir, "bench seq --package huge.firelook --frames 1 --looks 1 --spp 2 --alpha-rays 1");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.err, HasSubstr("density: 4 values above 1e+06 clamped to 1e+06")) << r.err;
     r = runFirelook(dir, "render huge.firelook --frame 1 -o baked.exr");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     r = runFirelook(dir, "reference seq --frame 1 --size 16x16 --spp 256 --clamp-extreme -o reference.exr");

@@ -29,6 +29,7 @@
 #include "look/blackbody.h"
 #include "look/emission_fit.h"
 #include "look/look.h"
+#include "reference/frame_medium.h"
 #include "bake/scene_setup.h"
 #include "render/reference_tracer.h"
 #include "vdb/vdb_sequence.h"
@@ -130,7 +131,7 @@ int benchBlackbody(const std::string& sequence_path, const std::string& package_
     model.emission.basis = fine;
     model.emission.coefficients = fitEmissionCoefficients(fine, per_bin);
 
-    const render::Medium medium = bake::mediumFromFrame(
+    const render::Medium medium = reference::mediumFromFrame(
         vdb::VdbSequence::open(sequence_path, vdb::ReadOptions{}).load(frame_number));
     render::ReferenceSettings settings;
     settings.samples_per_pixel = spp;
