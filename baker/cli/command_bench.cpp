@@ -319,7 +319,7 @@ void registerBenchCommand(CLI::App& app) {
         const uint64_t bake_seed = metadata.at("provenance").at("settings").at("seed");
 
         ordered_json rows = ordered_json::array();
-        std::vector<double> rmse, ref_noise, mean_bias, channel_bias, mean_noise, b_trace, b_interp, b_compress, alpha_error, corrected, e_trace, e_interp, e_compress, coeff_us, image_ms;
+        std::vector<double> rmse, ref_noise, mean_bias, channel_bias, mean_noise, b_trace, b_interp, b_compress, alpha_error, corrected, e_trace, e_trace_corrected, e_interp, e_compress, coeff_us, image_ms;
         render::Pcg32 rng(args->seed);
         ProgressBar bar("bench");
         const int total = static_cast<int>(frames.size()) * args->looks;
@@ -440,6 +440,11 @@ void registerBenchCommand(CLI::App& app) {
                         toImage(d, imageFromBasis(d, factors, direct, direct_model, look, model));
                     const render::RenderImage blended = toImage(d, imageFromBasis(d, factors, full, d, look, model));
                     e_trace.push_back(render::relativeRmse(direct_image, ref.image));
+                    // Without the reference's own noise: the tracer's error at exactly this look, which
+                    // holds its photon noise (what the bake predicted, photon_noise.h) and the cells'
+                    // and the march's errors.
+                    e_trace_corrected.push_back(
+                        std::sqrt(std::max(0.0, e_trace.back() * e_trace.back() - ref_noise.back() * ref_noise.back())));
                     e_interp.push_back(render::relativeRmse(blended, direct_image));
                     e_compress.push_back(render::relativeRmse(pkg, blended));
                     // The same split of the image-mean bias (worst channel): each source against the
@@ -487,8 +492,19 @@ void registerBenchCommand(CLI::App& app) {
             summary["bake_seconds"] = bake_report.at("seconds");
             summary["bake_peak_memory_mib"] = bake_report.at("peak_memory_mib");
         }
+        // What the bake predicted for its photon noise (the worst column of the frames benched), beside
+        // what the split measures: a look's tracing error without the reference's noise.
+        summary["predicted_photon_noise"] = nullptr;
+        for (const ordered_json& e : metadata.value("errors", ordered_json::array()))
+            if (e.contains("predicted_photon_noise") &&
+                std::find(frames.begin(), frames.end(), e.at("frame").get<int>()) != frames.end())
+                summary["predicted_photon_noise"] =
+                    std::max(summary["predicted_photon_noise"].is_null() ? 0.0 : summary["predicted_photon_noise"].get<double>(),
+                             e.at("predicted_photon_noise").get<double>());
         if (args->split)
             summary["split_median"] = {{"tracing_vs_reference", median(e_trace)},
+                                       {"tracing_noise_corrected", median(e_trace_corrected)},
+                                       {"tracing_noise_corrected_worst", maxOf(e_trace_corrected)},
                                        {"interpolation", median(e_interp)},
                                        {"compression", median(e_compress)},
                                        {"tracing_bias", median(b_trace)},

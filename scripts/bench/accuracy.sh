@@ -5,7 +5,9 @@
 # ranges, path-traces each at 1024 spp and splits the error by source. Alpha is judged against 8x8
 # exact rays per pixel. Prints one table (also written as OUT/regimes.csv and OUT/regimes.txt):
 # noise-corrected relative RMSE median and worst, the image-mean bias of the worst channel with the
-# reference's own noise of the mean, the bias split (tracing / interpolation / compression), alpha.
+# reference's own noise of the mean, the bias split (tracing / interpolation / compression), alpha,
+# the photon noise the bake predicted for its worst column beside the tracing error bench measured
+# (median over the looks, the reference's noise removed), and the bake's seconds.
 #   emission      samples/data/explosion frames 3, 7, 11: flame and fresh smoke, emission dominates
 #   sunlit-smoke  samples/data/smoke frame 20: smoke lit by the scene's light, emission off
 #   dense-0.7     frame 20 as dense smoke (k_s at the top of its range: optical depth 5-20), albedo 0.7
@@ -60,16 +62,18 @@ done
 
 # The table: the bias split comes from each regime's JSON (bench --split), the rest from the CSV.
 {
-  printf '%-13s %6s %9s %9s %10s %10s %24s %7s %7s\n' regime looks "median %" "worst %" "bias %" "ref noise %" \
-    "bias: trace/interp/comp %" alpha "bake s"
+  printf '%-13s %6s %9s %9s %10s %10s %24s %7s %16s %7s\n' regime looks "median %" "worst %" "bias %" "ref noise %" \
+    "bias: trace/interp/comp %" alpha "noise pred/trace" "bake s"
   tail -n +2 "$csv" | while IFS=, read -r label looks med_rmse worst_rmse ref_noise med_corr worst_corr alpha \
       med_bias worst_bias coeff_us image_ms bytes bake_s bake_mib channel_bias mean_noise; do
-    split="$(tr -d ' \n' < "$out/$label.json" | grep -o '"split_median":{[^}]*}' || true)"
+    whole="$(tr -d ' \n' < "$out/$label.json")"
+    split="$(echo "$whole" | grep -o '"split_median":{[^}]*}' || true)"
     field() { echo "$split" | grep -o "\"$1\":[-0-9.e+]*" | cut -d: -f2; }
+    predicted="$(echo "$whole" | grep -o '"predicted_photon_noise":[-0-9.e+]*' | head -1 | cut -d: -f2)"
     awk -v l="$label" -v n="$looks" -v m="$med_corr" -v w="$worst_corr" -v b="$channel_bias" -v r="$mean_noise" \
         -v bt="$(field tracing_bias)" -v bi="$(field interpolation_bias)" -v bc="$(field compression_bias)" \
-        -v a="$alpha" -v s="$bake_s" 'BEGIN {
-      printf "%-13s %6d %9.2f %9.2f %+10.2f %10.3f %+8.2f/%+6.2f/%+6.2f %7.4f %7.0f\n",
-             l, n, 100*m, 100*w, 100*b, 100*r, 100*bt, 100*bi, 100*bc, a, s }'
+        -v a="$alpha" -v s="$bake_s" -v p="${predicted:-0}" -v tc="$(field tracing_noise_corrected)" 'BEGIN {
+      printf "%-13s %6d %9.2f %9.2f %+10.2f %10.3f %+8.2f/%+6.2f/%+6.2f %7.4f %8.2f/%6.2f %7.0f\n",
+             l, n, 100*m, 100*w, 100*b, 100*r, 100*bt, 100*bi, 100*bc, a, 100*p, 100*tc, s }'
   done
 } | tee "$out/regimes.txt"

@@ -34,8 +34,8 @@ settings=(
   "rank-8|{\"compression\": {\"max_rank\": 8}}"
   "rank-16|{\"compression\": {\"max_rank\": 16}}"
   "rank-32|{\"compression\": {\"max_rank\": 32}}"
-  "photons-x0.25|{\"trace\": {\"photons_primary\": 65536, \"photons_per_order\": 32768}}"
-  "photons-x0.5|{\"trace\": {\"photons_primary\": 131072, \"photons_per_order\": 65536}}"
+  "photons-x0.25|{\"trace\": {\"photons_primary\": 65536, \"photons_per_order\": 32768, \"photon_noise_target\": 0}}"
+  "photons-x0.5|{\"trace\": {\"photons_primary\": 131072, \"photons_per_order\": 65536, \"photon_noise_target\": 0}}"
   "Tc-3|{\"axes\": {\"temperature_threshold\": {\"min\": 1.0, \"max\": 2.0, \"count\": 3}}}"
   "ks-2|{\"axes\": {\"smoke_extinction\": [2, 16]}}"
   "kf-2|{\"axes\": {\"flame_extinction\": [0.5, 4]}}"
@@ -45,7 +45,7 @@ settings=(
   "step-0.5|{\"trace\": {\"step_voxels\": 0.5}}"
   "size-64|{\"size\": \"64x64\"}"
   "target-0.01|{\"compression\": {\"target_relative_error\": 0.01}}"
-  "photons-x2|{\"trace\": {\"photons_primary\": 524288, \"photons_per_order\": 262144}}"
+  "photons-x2|{\"trace\": {\"photons_primary\": 524288, \"photons_per_order\": 262144, \"photon_noise_target\": 0}}"
   "cells-8vox|{\"trace\": {\"cell_voxels\": 8}}"
   "size-256|{\"size\": \"256x256\"}|256"
   "Tc-11|{\"axes\": {\"temperature_threshold\": {\"min\": 1.0, \"max\": 2.0, \"count\": 11}}}"
@@ -56,7 +56,7 @@ settings=(
   "cells-4vox|{\"trace\": {\"cell_voxels\": 4}}"
 )
 if [[ "${QUICK:-0}" == 1 ]]; then
-  few='"trace": {"photons_primary": 4000, "photons_per_order": 2000, "max_orders": 3}'
+  few='"trace": {"photons_primary": 4000, "photons_per_order": 2000, "photon_noise_target": 0, "max_orders": 3}'
   settings=("quick-baseline|{$few}" "quick-rank-2|{$few, \"compression\": {\"max_rank\": 2}}")
 fi
 

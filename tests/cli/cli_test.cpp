@@ -490,7 +490,7 @@ TEST(Cli, BakeCollapsesAnAxisThatCannotChangeAFrame) {
     // The sample's temperatures scaled below 0.58 against T_c samples 1 and 2 (16 bins of 0.036).
     std::ofstream(dir / "bake.json") << R"({"bins": 16, "t_lo": 0, "t_hi": 0.58, "temperature_scale": 0.1933,
         "axes": {"temperature_threshold": [1.0, 2.0], "smoke_extinction": 4, "flame_extinction": 1.5},
-        "trace": {"photons_primary": 2000, "photons_per_order": 1000, "max_orders": 3, "cell_voxels": 8}})";
+        "trace": {"photons_primary": 2000, "photons_per_order": 1000, "photon_noise_target": 0, "max_orders": 3, "cell_voxels": 8}})";
     const std::string bake = "bake '" + kSample + "' --frames 1 --size 16x16 --up z --config bake.json";
     CommandResult r = runFirelook(dir, bake + " -o pkg.firelook --report r.json");
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;

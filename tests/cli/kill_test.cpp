@@ -55,7 +55,7 @@ TEST(KilledBake, NeverLeavesAPackageAndKeepsThePreviousOne) {
     TempDir dir;
     std::ofstream(dir / "bake.json")
         << R"({"bins": 4, "t_lo": 0, "t_hi": 3, "axes": {"temperature_threshold": [1.0, 2.0], "smoke_extinction": [4],
-              "flame_extinction": [1.5]}, "trace": {"photons_primary": 20000, "photons_per_order": 10000}})";
+              "flame_extinction": [1.5]}, "trace": {"photons_primary": 20000, "photons_per_order": 10000, "photon_noise_target": 0}})";
     const std::string out = (dir / "out.firelook").string();
     const std::vector<std::string> bake = {FIRELOOK_EXE, "bake", FIRELOOK_SAMPLE_DIR, "--up", "z", "--frames", "1-3",
                                            "--size", "32x32", "--config", (dir / "bake.json").string(), "-o", out};

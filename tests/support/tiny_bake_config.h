@@ -9,7 +9,7 @@ inline constexpr const char* kTinyBakeConfig = R"({
     "bins": 4, "t_lo": 0, "t_hi": 3,
     "axes": {"temperature_threshold": [1.0, 2.0], "smoke_extinction": 4, "flame_extinction": 1.5},
     "alpha_threshold_samples": 3,
-    "trace": {"photons_primary": 2000, "photons_per_order": 1000, "max_orders": 3, "cell_voxels": 8}
+    "trace": {"photons_primary": 2000, "photons_per_order": 1000, "photon_noise_target": 0, "max_orders": 3, "cell_voxels": 8}
 })";
 
 }  // namespace firelook::testing

@@ -15,7 +15,7 @@ namespace {
 
 TEST(BakedPackage, WorldImagesEqualRenderLookImage) {
     firelook::testing::TempDir dir;
-    std::ofstream(dir / "c.json") << R"({"trace": {"photons_primary": 4000, "photons_per_order": 2000}})";
+    std::ofstream(dir / "c.json") << R"({"trace": {"photons_primary": 4000, "photons_per_order": 2000, "photon_noise_target": 0}})";
     const std::string command = std::string(FIRELOOK_CLI) + " bake " + FIRELOOK_SAMPLE_DIR +
                                 " --up z --size 24x20 --frames 1-2 -o " + (dir / "small.firelook").string() +
                                 " --config " + (dir / "c.json").string() + " > " + (dir / "bake.log").string() +
