@@ -195,21 +195,21 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
         ScatteredLightTracer scattered(ctx, model, settings);
         gate.checkpoint(0.08);
         const PhotonNoiseInputs noise_inputs{medium, tb, cells, light_depths, camera, min_step,
-                                             scattered.countedColumns()};
+                                             settings.footprint_step, scattered.countedColumns()};
         const auto predict = [&] {
-            const PhotonNoise p =
+            const double worst =
                 predictPhotonNoise(noise_inputs, scattered.sum(), scattered.signedSum(), scattered.chains(), gate.stopFlag());
             gate.throwIfStopped();
-            return p;
+            return worst;
         };
         // Two chains: the photons the settings name, and the first noise prediction. Then as many
         // more as the target asks (noise falls as 1/sqrt(chains)), up to max_photon_scale times the
         // photons, and the prediction again for the report.
         scattered.addChains(2, [&](double done) { gate.checkpoint(0.08 + 0.22 * done); });
-        PhotonNoise noise = predict();
+        double noise = predict();
         const double target = settings.photon_noise_target;
-        if (target > 0.0 && noise.worst > target) {
-            const double wanted = 2.0 * (noise.worst / target) * (noise.worst / target);
+        if (target > 0.0 && noise > target) {
+            const double wanted = 2.0 * (noise / target) * (noise / target);
             int chains = std::min(2 * settings.max_photon_scale, static_cast<int>(std::ceil(wanted)));
             chains += chains % 2;  // an even count keeps the noise sample's expectation zero
             if (chains > 2) {
@@ -218,24 +218,20 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
             }
         }
         out.photon_chains = scattered.chains();
-        out.predicted_photon_noise = noise.worst;
-        out.predicted_photon_noise_median = noise.median;
+        out.predicted_photon_noise = noise;
         lbar_sum = std::move(scattered).estimate();
         out.scattering_orders = scattered.orders();
         out.last_order_fraction = scattered.lastOrderFraction();
         out.tail_fraction = scattered.tailFraction();
-    } else if (model.albedo > 0.0) {
-        lbar_sum.assign(ctx.field_size, 0.0f);
-    }
+    }  // else no scattered light: lbar_sum stays empty and the camera gathers no cells
     gate.checkpoint(0.6);
     out.seconds_photons = lapSeconds(clock);
 
     // Camera rays: exact march of the fine medium, with a step from the pixel footprint.
-    const IndexBox box = influenceBox(medium);
-    const double pixel_angle = 2.0 * std::tan(0.5 * camera.parameters().yfov_radians) / out.height;
     std::atomic<int> rows_done{0};
     tbb::parallel_for(tbb::blocked_range<int>(0, out.height, 4), [&](const tbb::blocked_range<int>& rows) {
-        CameraMarch ray_march(medium, tb, cells, light_depths, model.albedo > 0.0);
+        CameraMarch ray_march(medium, tb, cells, light_depths, camera, min_step, settings.footprint_step,
+                              !lbar_sum.empty());
         std::vector<double> depth_a(tb.n_alpha);
         for (int py = rows.begin(); py != rows.end(); ++py) {
             if (gate.stopped()) return;
@@ -246,14 +242,11 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                 // The pixel is the mean of its footprint rays: each adds 1/samples of its integral.
                 const float sample_weight = 1.0f / static_cast<float>(out.footprint_samples);
                 for (int sample = 0; sample < out.footprint_samples; ++sample) {
-                    const render::Ray world_ray = camera.generateRay(px, py, (sample % per_axis + 0.5) / per_axis,
-                                                                     (sample / per_axis + 0.5) / per_axis);
-                    const IndexRay ray = toIndexSpace(medium, world_ray.origin, world_ray.direction);
-                    double t0, t1;
-                    if (!clipToBox(ray, box, t0, t1)) continue;
-                    const double step = std::max(min_step, settings.footprint_step * pixel_angle * t0 / per_axis);
                     double depth_b = 0.0;
-                    ray_march.march(ray, t0, t1, step, sample_weight, row, depth_b, depth_a.data());
+                    if (!ray_march.marchPixelRay(px, py, (sample % per_axis + 0.5) / per_axis,
+                                                 (sample / per_axis + 0.5) / per_axis, per_axis, sample_weight, row,
+                                                 depth_b, depth_a.data()))
+                        continue;
                     out.depth_b[static_cast<size_t>(sample) * pixels + pixel] = static_cast<float>(depth_b);
                     float* sigmoid_out = out.depth_a.data() + static_cast<size_t>(sample) * tb.n_alpha * pixels + pixel;
                     for (int a = 0; a < tb.n_alpha; ++a) sigmoid_out[a * pixels] = static_cast<float>(depth_a[a]);

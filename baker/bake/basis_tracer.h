@@ -151,8 +151,7 @@ struct FrameBasis {
     double last_order_fraction = 0.0;   // largest share of a column's scattered power the last order added
     double tail_fraction = 0.0;         // largest share of a column's scattered power the added tail is
     int photon_chains = 0;              // independent photon chains traced (2 = the photons as set)
-    double predicted_photon_noise = 0.0;         // photon_noise.h: the worst column's prediction
-    double predicted_photon_noise_median = 0.0;  // and the median column's
+    double predicted_photon_noise = 0.0;  // photon_noise.h: the worst column's prediction
     int cell_edge_voxels = 0;           // what the plan chose
     int light_spacing_voxels = 0;
     double cell_optical_depth = 0.0;

@@ -6,11 +6,17 @@
 namespace firelook::bake {
 
 CameraMarch::CameraMarch(const render::Medium& medium, const TraceTables& tables, const ScatterCells& cells,
-                         const LightDepthField& light_depths, bool scattering)
+                         const LightDepthField& light_depths, const render::Camera& camera, double min_step,
+                         double footprint_step, bool scattering)
     : medium_(medium),
       tb_(tables),
       cells_(cells),
       light_depths_(light_depths),
+      camera_(camera),
+      box_(influenceBox(medium)),
+      min_step_(min_step),
+      footprint_step_(footprint_step),
+      pixel_angle_(2.0 * std::tan(0.5 * camera.parameters().yfov_radians) / camera.height()),
       scattering_(scattering),
       tau_(tables.points),
       tau_next_(tables.points),
@@ -25,8 +31,13 @@ void CameraMarch::beginPixel() {
     kernel_.clear();
 }
 
-void CameraMarch::march(const IndexRay& ray, double t0, double t1, double step, float weight, float* row,
-                        double& depth_b, double* depth_a) {
+bool CameraMarch::marchPixelRay(int px, int py, double u, double v, int rays_per_axis, float weight, float* row,
+                                double& depth_b, double* depth_a) {
+    const render::Ray world_ray = camera_.generateRay(px, py, u, v);
+    const IndexRay ray = toIndexSpace(medium_, world_ray.origin, world_ray.direction);
+    double t0, t1;
+    if (!clipToBox(ray, box_, t0, t1)) return false;
+    const double step = std::max(min_step_, footprint_step_ * pixel_angle_ * t0 / rays_per_axis);
     const TraceTables& tb = tb_;
     const int G = tb.points, C = tb.columns;
     float smoke[kMaxAxisSamples], flame[kMaxAxisSamples], d_smoke[kMaxAxisSamples], d_flame[kMaxAxisSamples],
@@ -82,6 +93,7 @@ void CameraMarch::march(const IndexRay& ray, double t0, double t1, double step, 
         visible = tb.maxTransmittance(d_smoke, d_flame) > kNegligibleTransmittance;
         return true;
     });
+    return true;
 }
 
 void CameraMarch::contract(const std::vector<float>& field, float* row) const {

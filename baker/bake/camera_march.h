@@ -12,23 +12,29 @@
 #include "bake/light_depth_field.h"
 #include "bake/scatter_cells.h"
 #include "bake/trace_tables.h"
+#include "render/camera.h"
 #include "render/medium.h"
 
 namespace firelook::bake {
 
 class CameraMarch {
   public:
-    // `scattering`: whether the medium scatters at all (albedo > 0); without it no cell is gathered.
+    // Steps along the camera rays: never finer than min_step (world units), and footprint_step
+    // times the spacing of a pixel's footprint rays where the ray enters the volume when that is
+    // longer (TraceSettings::footprint_step). `scattering`: whether the medium scatters at all
+    // (albedo > 0 and a scattered-light field to contract); without it no cell is gathered.
     CameraMarch(const render::Medium& medium, const TraceTables& tables, const ScatterCells& cells,
-                const LightDepthField& light_depths, bool scattering);
+                const LightDepthField& light_depths, const render::Camera& camera, double min_step,
+                double footprint_step, bool scattering);
 
     // Forgets the cells gathered for the previous pixel.
     void beginPixel();
-    // Marches [t0, t1] of `ray` in steps of `step`: adds `weight` times the ray's direct integrals
-    // to row (points x columns) and to the gathered cells' weights. depth_b and depth_a[alpha] get the
-    // ray's optical depths (not weighted).
-    void march(const IndexRay& ray, double t0, double t1, double step, float weight, float* row, double& depth_b,
-               double* depth_a);
+    // Marches the camera ray through (px + u, py + v), one of rays_per_axis^2 footprint rays of its
+    // pixel: adds `weight` times the ray's direct integrals to row (points x columns) and to the
+    // gathered cells' weights; depth_b and depth_a[alpha] get the ray's optical depths (not
+    // weighted). False, with nothing added or written, when the ray misses the volume.
+    bool marchPixelRay(int px, int py, double u, double v, int rays_per_axis, float weight, float* row,
+                       double& depth_b, double* depth_a);
     // row += for every cell gathered since beginPixel: its weights times field (slots x points x columns).
     void contract(const std::vector<float>& field, float* row) const;
 
@@ -37,6 +43,10 @@ class CameraMarch {
     const TraceTables& tb_;
     const ScatterCells& cells_;
     const LightDepthField& light_depths_;
+    const render::Camera& camera_;
+    IndexBox box_;
+    double min_step_, footprint_step_;
+    double pixel_angle_;  // radians a pixel spans vertically
     bool scattering_;
     std::vector<float> tau_, tau_next_, sigma_t_, ltau_, path_;
     std::vector<int> entry_of_slot_;  // -1, or the index of the slot in touched_

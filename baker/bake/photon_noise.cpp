@@ -14,7 +14,7 @@ constexpr double kNegligibleColumn = 1e-6;
 
 }  // namespace
 
-PhotonNoise predictPhotonNoise(const PhotonNoiseInputs& in, const std::vector<float>& lbar,
+double predictPhotonNoise(const PhotonNoiseInputs& in, const std::vector<float>& lbar,
                                const std::vector<float>& noise, int chains, const std::atomic<bool>& stop) {
     const TraceTables& tb = in.tables;
     const int G = tb.points, C = tb.columns;
@@ -22,13 +22,12 @@ PhotonNoise predictPhotonNoise(const PhotonNoiseInputs& in, const std::vector<fl
     const int width = in.camera.width(), height = in.camera.height();
     const int stride = std::max(1, (std::max(width, height) + kPhotonNoisePixelsPerAxis - 1) / kPhotonNoisePixelsPerAxis);
     const int cols = (width + stride - 1) / stride, rows = (height + stride - 1) / stride;
-    const double pixel_angle = 2.0 * std::tan(0.5 * in.camera.parameters().yfov_radians) / height;
     const float inv_chains = 1.0f / static_cast<float>(std::max(chains, 1));
-    const IndexBox box = influenceBox(in.medium);
     // Per coarse row, then summed in row order: the same prediction with any number of threads.
     std::vector<double> value2(static_cast<std::size_t>(rows) * GC, 0.0), noise2(value2.size(), 0.0);
     tbb::parallel_for(0, rows, [&](int r) {
-        CameraMarch ray_march(in.medium, tb, in.cells, in.light_depths, true);
+        CameraMarch ray_march(in.medium, tb, in.cells, in.light_depths, in.camera, in.min_step, in.footprint_step,
+                              true);
         std::vector<float> direct(GC), scattered(GC), noisy(GC);
         std::vector<double> depth_a(tb.n_alpha);
         double* v2 = value2.data() + static_cast<std::size_t>(r) * GC;
@@ -36,18 +35,13 @@ PhotonNoise predictPhotonNoise(const PhotonNoiseInputs& in, const std::vector<fl
         const int py = std::min(height - 1, r * stride + stride / 2);
         for (int c = 0; c < cols && !stop.load(std::memory_order_relaxed); ++c) {
             const int px = std::min(width - 1, c * stride + stride / 2);
-            const render::Ray world_ray = in.camera.generateRay(px, py, 0.5, 0.5);
-            const IndexRay ray = toIndexSpace(in.medium, world_ray.origin, world_ray.direction);
-            double t0, t1;
-            if (!clipToBox(ray, box, t0, t1)) continue;
-            // The bake's footprint step for one ray per pixel.
-            const double step = std::max(in.min_step, 0.5 * pixel_angle * t0);
             std::fill(direct.begin(), direct.end(), 0.0f);
             std::fill(scattered.begin(), scattered.end(), 0.0f);
             std::fill(noisy.begin(), noisy.end(), 0.0f);
             double depth_b = 0.0;
             ray_march.beginPixel();
-            ray_march.march(ray, t0, t1, step, 1.0f, direct.data(), depth_b, depth_a.data());
+            // The pixel's centre ray, with the bake's step for one ray per pixel.
+            if (!ray_march.marchPixelRay(px, py, 0.5, 0.5, 1, 1.0f, direct.data(), depth_b, depth_a.data())) continue;
             ray_march.contract(lbar, scattered.data());
             ray_march.contract(noise, noisy.data());
             for (std::size_t i = 0; i < GC; ++i) {
@@ -71,8 +65,7 @@ PhotonNoise predictPhotonNoise(const PhotonNoiseInputs& in, const std::vector<fl
     for (int c = 0; c < in.counted; ++c)
         for (int g = 0; g < G; ++g) column_energy[c] += v2[static_cast<std::size_t>(g) * C + c];
     const double brightest = column_energy.empty() ? 0.0 : *std::max_element(column_energy.begin(), column_energy.end());
-    PhotonNoise out;
-    std::vector<double> per_column;
+    double worst = 0.0;
     for (int c = 0; c < in.counted; ++c) {
         if (!(column_energy[c] > kNegligibleColumn * brightest)) continue;
         double sum = 0.0;
@@ -83,18 +76,9 @@ PhotonNoise predictPhotonNoise(const PhotonNoiseInputs& in, const std::vector<fl
             sum += n2[i] / v2[i];
             ++points;
         }
-        const double rel = std::sqrt(sum / points);
-        per_column.push_back(rel);
-        if (rel > out.worst) {
-            out.worst = rel;
-            out.worst_column = c;
-        }
+        worst = std::max(worst, std::sqrt(sum / points));
     }
-    if (!per_column.empty()) {
-        std::sort(per_column.begin(), per_column.end());
-        out.median = per_column[per_column.size() / 2];
-    }
-    return out;
+    return worst;
 }
 
 }  // namespace firelook::bake

@@ -22,11 +22,6 @@
 
 namespace firelook::bake {
 
-struct PhotonNoise {
-    double worst = 0.0;     // the largest column prediction (0 when no column has light)
-    double median = 0.0;    // the median column prediction
-    int worst_column = -1;  // which column (of each grid point's columns) gave `worst`
-};
 
 struct PhotonNoiseInputs {
     const render::Medium& medium;
@@ -34,14 +29,16 @@ struct PhotonNoiseInputs {
     const ScatterCells& cells;
     const LightDepthField& light_depths;
     const render::Camera& camera;
-    double min_step;  // world units: the camera rays' smallest step
+    double min_step;        // world units: the camera rays' smallest step
+    double footprint_step;  // and their step against the footprint (TraceSettings::footprint_step)
     // The columns 0..counted-1 of each grid point that are judged.
     int counted;
 };
 
-// `lbar` and `noise` are sums over `chains` chains (ScatteredLightTracer::sum() and signedSum()).
-// Stops early, returning what it has, when `stop` is set.
-PhotonNoise predictPhotonNoise(const PhotonNoiseInputs& in, const std::vector<float>& lbar,
+// The largest column prediction (0 when no column has light). `lbar` and `noise` are sums over
+// `chains` chains (ScatteredLightTracer::sum() and signedSum()). Stops early, returning what it
+// has, when `stop` is set.
+double predictPhotonNoise(const PhotonNoiseInputs& in, const std::vector<float>& lbar,
                                const std::vector<float>& noise, int chains, const std::atomic<bool>& stop);
 
 // Pixels along each axis of the coarse grid at most: 64 costs about 1/64 of the camera stage of a

@@ -224,6 +224,12 @@ double median(std::vector<double> v) {
 
 double maxOf(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
 
+// A relative RMSE against the reference with the reference's own noise (independent of the error
+// measured) subtracted in quadrature.
+double withoutReferenceNoise(double error, double reference_noise) {
+    return std::sqrt(std::max(0.0, error * error - reference_noise * reference_noise));
+}
+
 bake::TraceSettings traceSettingsOf(const ordered_json& metadata) {
     bake::TraceSettings t;
     const ordered_json& s = metadata.at("provenance").at("settings").at("trace");
@@ -400,8 +406,7 @@ void registerBenchCommand(CLI::App& app) {
                 rmse.push_back(e_rgb);
                 ref_noise.push_back(ref.estimated_relative_rmse);
                 alpha_error.push_back(a);
-                // Subtract the reference's own noise (independent of the package's error) in quadrature.
-                corrected.push_back(std::sqrt(std::max(0.0, e_rgb * e_rgb - ref.estimated_relative_rmse * ref.estimated_relative_rmse)));
+                corrected.push_back(withoutReferenceNoise(e_rgb, ref.estimated_relative_rmse));
                 // Image-mean bias: the package's total RGB against the reference's, and the reference's
                 // own standard error of that total (per-pixel errors add in quadrature).
                 double pkg_sum = 0.0, ref_sum = 0.0, ref_squares = 0.0;
@@ -443,8 +448,7 @@ void registerBenchCommand(CLI::App& app) {
                     // Without the reference's own noise: the tracer's error at exactly this look, which
                     // holds its photon noise (what the bake predicted, photon_noise.h) and the cells'
                     // and the march's errors.
-                    e_trace_corrected.push_back(
-                        std::sqrt(std::max(0.0, e_trace.back() * e_trace.back() - ref_noise.back() * ref_noise.back())));
+                    e_trace_corrected.push_back(withoutReferenceNoise(e_trace.back(), ref_noise.back()));
                     e_interp.push_back(render::relativeRmse(blended, direct_image));
                     e_compress.push_back(render::relativeRmse(pkg, blended));
                     // The same split of the image-mean bias (worst channel): each source against the
@@ -494,13 +498,12 @@ void registerBenchCommand(CLI::App& app) {
         }
         // What the bake predicted for its photon noise (the worst column of the frames benched), beside
         // what the split measures: a look's tracing error without the reference's noise.
-        summary["predicted_photon_noise"] = nullptr;
+        std::optional<double> predicted;  // none for packages baked before the prediction
         for (const ordered_json& e : metadata.value("errors", ordered_json::array()))
             if (e.contains("predicted_photon_noise") &&
                 std::find(frames.begin(), frames.end(), e.at("frame").get<int>()) != frames.end())
-                summary["predicted_photon_noise"] =
-                    std::max(summary["predicted_photon_noise"].is_null() ? 0.0 : summary["predicted_photon_noise"].get<double>(),
-                             e.at("predicted_photon_noise").get<double>());
+                predicted = std::max(predicted.value_or(0.0), e.at("predicted_photon_noise").get<double>());
+        summary["predicted_photon_noise"] = predicted ? ordered_json(*predicted) : ordered_json(nullptr);
         if (args->split)
             summary["split_median"] = {{"tracing_vs_reference", median(e_trace)},
                                        {"tracing_noise_corrected", median(e_trace_corrected)},
