@@ -105,7 +105,7 @@ TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& cam
         // The chains' sum and signed sum (scattered_light.h), the previous order, and what a photon
         // pass holds at its peak; the masses; the per-cell part sums while the cells are built; the
         // noise prediction's per-row sums (photon_noise.h).
-        return 3 * field + photonPassBytes(slots * G * C) + slots * G * sizeof(float) +
+        return 3 * field + photonPassBytes(slots * G * C, slots) + slots * G * sizeof(float) +
                scatterCellCount(medium, edge) * 2 * tb.n_tc * sizeof(double) +
                kPhotonNoisePixelsPerAxis * G * C * 2 * sizeof(double);
     };

@@ -65,6 +65,12 @@ struct TraceSettings {
     // sees only the first mean free path of a thick cell: measured on a 16^3 box of smoke
     // (tau 8 across, albedo 0.9, a sun), the image's energy against the reference was 0.999 /
     // 0.993 / 0.962 with cells of optical depth 0.5 / 1 / 2 (tests/bake/basis_tracer_test.cpp).
+    // Finer cells cost by their number: every photon pass sums, normalises and carries whole
+    // fields of points x columns per cell. With cell_voxels 1 and 0.5 here the bundled sample's
+    // frame 3 at the top of its smoke axis (2-voxel cells of optical depth 0.79) had its image-mean
+    // bias go from -0.29% to -0.12% (64x64, tests/accuracy), but dense smoke
+    // (samples/data/smoke at the top of a dense k_s axis) got 1-voxel cells and baked several times
+    // slower, so they are a setting, not the default (README, "Accuracy by regime").
     double max_cell_optical_depth = 1.0;
     // At most this many light-depth lattice points along any axis (shadow resolution of the
     // single-scattered light): 128 keeps the sample at one point per voxel.
@@ -91,10 +97,14 @@ struct TraceSettings {
     // share of the column's own scattered power; the tail is then added (order_series.h).
     double order_tolerance = 0.002;
     // Smallest march step in voxels (camera rays and light depths; photon tracks use a quarter
-    // cell, at least one voxel). 0.25 because at 0.5 the midpoint rule misses silhouette optical
-    // depths by enough to move alpha by 0.0116 against the same rays marched at 0.1 (frame 3,
-    // 128x128, k_s 15); 0.25: 0.0018, 0.1: 0.0006.
-    double step_voxels = 0.25;
+    // cell, at least one voxel). The midpoint rule's error is second order in the step, and the
+    // bias bar of issue 27 is 0.3% of the image mean: at 0.25 the bundled sample's frame 3 baked
+    // with albedo 0 (emission and extinction only, no cells) had image means 0.19% low to 0.10%
+    // high against the reference; at 0.125, 0.08% low to 0.08% high, within three times the
+    // reference's own noise of the mean (0.024-0.035%). Alpha: at 0.5 the
+    // silhouettes' optical depths moved alpha by 0.0116 against the same rays marched at 0.1
+    // (frame 3, 128x128, k_s 15); 0.25: 0.0018, 0.1: 0.0006.
+    double step_voxels = 0.125;
     // Camera-ray step as a fraction of the spacing of the footprint rays where the ray enters the
     // volume, when that is longer than step_voxels: finer detail than the rays' own spacing is
     // averaged away by the footprint anyway, so fine volumes cost per pixel, not per voxel.

@@ -50,10 +50,14 @@ struct PhotonSequence {
 
 void traceChunk(const TransportContext& ctx, SourceKind kind, const PhotonStartSampler& sampler,
                 const PhotonSequence& sequence, const std::vector<float>* previous, int photons,
-                std::uint64_t seed, int chunk, std::vector<float>& field) {
+                std::uint64_t seed, int chunk, PhotonPassBuffers::Chunk& buffer) {
     const TraceTables& tb = ctx.tables;
     const int G = tb.points, C = tb.columns;
-    field.assign(ctx.field_size, 0.0f);
+    if (buffer.field.empty()) {
+        buffer.field.assign(ctx.field_size, 0.0f);
+        buffer.seen.assign(static_cast<std::size_t>(ctx.cells.slots), 0);
+    }
+    std::vector<float>& field = buffer.field;
     std::vector<float> weight(static_cast<std::size_t>(G) * C);
     std::vector<float> tau(G), tau_next(G), sigma_t(G), ltau(G), cell_sum(G);
     float smoke[kMaxAxisSamples], flame[kMaxAxisSamples], d_smoke[kMaxAxisSamples], d_flame[kMaxAxisSamples],
@@ -135,6 +139,10 @@ void traceChunk(const TransportContext& ctx, SourceKind kind, const PhotonStartS
         std::fill(cell_sum.begin(), cell_sum.end(), 0.0f);
         const auto deposit = [&] {
             if (current_slot < 0) return;
+            if (!buffer.seen[current_slot]) {
+                buffer.seen[current_slot] = 1;
+                buffer.touched.push_back(current_slot);
+            }
             float* out = field.data() + static_cast<std::size_t>(current_slot) * G * C;
             for (int g = 0; g < G; ++g) {
                 const float sum = cell_sum[g];
@@ -168,27 +176,38 @@ void traceChunk(const TransportContext& ctx, SourceKind kind, const PhotonStartS
 
 }  // namespace
 
-std::size_t photonPassBytes(std::size_t field_size) { return (1 + kChunksAtOnce) * field_size * sizeof(float); }
+std::size_t photonPassBytes(std::size_t field_size, std::size_t slots) {
+    return (1 + kChunksAtOnce) * field_size * sizeof(float) + kChunksAtOnce * slots * (sizeof(int) + 1);
+}
 
 std::vector<float> photonPass(const TransportContext& ctx, SourceKind kind, const PhotonStartSampler& sampler,
-                              const std::vector<float>* previous, int photons, std::uint64_t seed) {
+                              const std::vector<float>* previous, int photons, std::uint64_t seed,
+                              PhotonPassBuffers& buffers) {
     // One shift per pass, from a stream no photon uses (photon indices are below 2^31).
     render::Pcg32 pass_rng = render::Pcg32::forSample(seed, static_cast<uint64_t>(kind), uint64_t(1) << 40);
     PhotonSequence sequence;
     sequence.shift_u = pass_rng.uniform();
     sequence.shift_v = pass_rng.uniform();
-    std::vector<float> total;
-    std::vector<std::vector<float>> buffers(kChunksAtOnce);
+    buffers.chunks.resize(kChunksAtOnce);
+    const std::size_t row = static_cast<std::size_t>(ctx.tables.points) * ctx.tables.columns;
+    std::vector<float> total(ctx.field_size, 0.0f);
     for (int first = 0; first < kPhotonChunks; first += kChunksAtOnce) {
         tbb::parallel_for(0, kChunksAtOnce, [&](int b) {
-            traceChunk(ctx, kind, sampler, sequence, previous, photons, seed, first + b, buffers[b]);
+            traceChunk(ctx, kind, sampler, sequence, previous, photons, seed, first + b, buffers.chunks[b]);
         });
-        for (int b = 0; b < kChunksAtOnce; ++b) {
-            if (total.empty()) {
-                total.swap(buffers[b]);
-                continue;
+        // Chunks add in a fixed order (0 + x is x exactly, so the total is the same as summing
+        // whole buffers), and each buffer is left zero for the next pass.
+        for (PhotonPassBuffers::Chunk& chunk : buffers.chunks) {
+            for (int slot : chunk.touched) {
+                float* from = chunk.field.data() + static_cast<std::size_t>(slot) * row;
+                float* to = total.data() + static_cast<std::size_t>(slot) * row;
+                for (std::size_t i = 0; i < row; ++i) {
+                    to[i] += from[i];
+                    from[i] = 0.0f;
+                }
+                chunk.seen[slot] = 0;
             }
-            for (std::size_t i = 0; i < total.size(); ++i) total[i] += buffers[b][i];
+            chunk.touched.clear();
         }
     }
     ctx.cells.normalise(total, ctx.tables.points, ctx.tables.columns);

@@ -29,13 +29,26 @@ struct TransportContext {
 
 enum class SourceKind { Emission, LightScatter, Scattered };
 
+// What photonPass accumulates into, kept between passes: one buffer per chunk of photons that run
+// at once, each zero outside the slots its photons reached. A pass clears and sums only those
+// slots, so few photons over many fine cells cost by the cells they reached, not by the field.
+struct PhotonPassBuffers {
+    struct Chunk {
+        std::vector<float> field;         // field_size floats, zero outside `touched`
+        std::vector<int> touched;         // slots deposited into, in the order first reached
+        std::vector<std::uint8_t> seen;   // per slot: in `touched`
+    };
+    std::vector<Chunk> chunks;  // allocated by the first pass
+};
+
 // Lbar per slot, grid point and column produced by `photons` photons from one kind of source.
 // `previous` (for Scattered) is the Lbar of the previous order. The result does not depend on the
 // number of threads.
 std::vector<float> photonPass(const TransportContext& ctx, SourceKind kind, const PhotonStartSampler& sampler,
-                              const std::vector<float>* previous, int photons, std::uint64_t seed);
+                              const std::vector<float>* previous, int photons, std::uint64_t seed,
+                              PhotonPassBuffers& buffers);
 
 // Bytes photonPass holds at its peak besides its inputs: its result and the accumulation buffers.
-std::size_t photonPassBytes(std::size_t field_size);
+std::size_t photonPassBytes(std::size_t field_size, std::size_t slots);
 
 }  // namespace firelook::bake

@@ -72,18 +72,21 @@ void ScatteredLightTracer::traceChain(int chain, const std::function<void(double
     const int G = tb.points, C = tb.columns;
     const std::uint64_t seed = chainSeed(settings_.seed, chain);
     const float sign = chain % 2 == 0 ? 1.0f : -1.0f;
+    const std::size_t row = static_cast<std::size_t>(G) * C;
     const auto add = [&](const std::vector<float>& field, const float* factor) {
-        for (std::size_t i = 0; i < field.size(); ++i) {
-            const float v = factor ? factor[i % (static_cast<std::size_t>(G) * C)] * field[i] : field[i];
-            sum_[i] += v;
-            signed_sum_[i] += sign * v;
-        }
+        for (std::size_t r = 0; r < field.size(); r += row)
+            for (std::size_t j = 0; j < row; ++j) {
+                const float v = factor ? factor[j] * field[r + j] : field[r + j];
+                sum_[r + j] += v;
+                signed_sum_[r + j] += sign * v;
+            }
     };
-    std::vector<float> order = photonPass(ctx_, SourceKind::Emission, *emission_sampler_, nullptr, photons_primary_, seed);
+    std::vector<float> order = photonPass(ctx_, SourceKind::Emission, *emission_sampler_, nullptr, photons_primary_, seed, buffers_);
     progress(0.1);
     if (tb.lights > 0) {
         const std::vector<float> light =
-            photonPass(ctx_, SourceKind::LightScatter, *density_sampler_, nullptr, photons_primary_, seed + 1);
+            photonPass(ctx_, SourceKind::LightScatter, *density_sampler_, nullptr, photons_primary_, seed + 1,
+                       buffers_);
         for (size_t i = 0; i < order.size(); ++i) order[i] += light[i];
     }
     OrderSeries series(ctx_.cells, G, C, counted_, albedo_);
@@ -91,7 +94,8 @@ void ScatteredLightTracer::traceChain(int chain, const std::function<void(double
     add(order, nullptr);
     progress(0.2);
     for (int k = 2; k <= settings_.max_orders; ++k) {
-        order = photonPass(ctx_, SourceKind::Scattered, *density_sampler_, &order, photons_per_order_, seed + 16 * k);
+        order = photonPass(ctx_, SourceKind::Scattered, *density_sampler_, &order, photons_per_order_, seed + 16 * k,
+                           buffers_);
         series.add(order);
         add(order, nullptr);
         progress(0.2 + 0.8 * k / settings_.max_orders);
@@ -110,6 +114,7 @@ std::vector<float> ScatteredLightTracer::estimate() && {
     const float inv = 1.0f / static_cast<float>(std::max(chains_, 1));
     for (float& v : sum_) v *= inv;
     std::vector<float>().swap(signed_sum_);
+    buffers_ = {};
     return std::move(sum_);
 }
 

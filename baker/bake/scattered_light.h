@@ -57,6 +57,7 @@ class ScatteredLightTracer {
     int photons_primary_, photons_per_order_;
     std::unique_ptr<PhotonStartSampler> emission_sampler_, density_sampler_;
     std::vector<float> sum_, signed_sum_;
+    PhotonPassBuffers buffers_;  // the photon passes' accumulation buffers, zero between passes
     int chains_ = 0;
     int orders_ = 0;
     double last_order_fraction_ = 0.0, tail_fraction_ = 0.0;

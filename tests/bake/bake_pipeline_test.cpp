@@ -263,9 +263,13 @@ TEST(BakePipeline, AxisThatCannotChangeAFrameCollapses) {
     EXPECT_EQ(meta.at("axis_collapse").at("collapsed").size(), 2u);
     EXPECT_FALSE(nlohmann::json::parse(f.metadataJson()).contains("axis_collapse"));
 
-    // Same seed, same photons: the images differ by the bound (< 1e-4 of sigma_t) and the rounding
-    // of a different SVD and codec (measured 1e-7); alpha by the stored depths' companding, which
-    // alpha_error bounds (1e-3; measured 5e-4). Tolerances: 1e-4 relative RMSE, 1e-3 in alpha.
+    // Same seed: the images differ by the bound (< 1e-4 of sigma_t), the rounding of a different
+    // SVD and codec, and the photon noise of the scattered light where the two bakes' photon paths
+    // stop drawing the same random numbers (their grid points differ). Measured 1.5e-4 with the
+    // 0.125-voxel step, 0 without scattering orders (max_orders 0), 1e-7 with the 0.25-voxel step,
+    // where the paths stayed the same. Tolerance 5e-4 relative RMSE: about three times
+    // that. Alpha differs by the stored depths' companding, which alpha_error bounds (1e-3; measured
+    // 5e-4).
     Look look = parseLook(f.description().default_look_json, "default");
     double worst_rgb = 0.0, worst_alpha = 0.0;
     for (double tc : {0.5, 1.0, 1.5, 2.0, 3.0})
@@ -279,7 +283,7 @@ TEST(BakePipeline, AxisThatCannotChangeAFrameCollapses) {
                 ASSERT_GT(d.reference_norm, 0.0);
                 worst_rgb = std::max(worst_rgb, d.relative_rmse);
                 worst_alpha = std::max(worst_alpha, d.worst_alpha);
-                EXPECT_LT(d.relative_rmse, 1e-4) << "T_c " << tc << " k_s " << ks << " k_f " << kf;
+                EXPECT_LT(d.relative_rmse, 5e-4) << "T_c " << tc << " k_s " << ks << " k_f " << kf;
                 EXPECT_LT(d.worst_alpha, 1e-3) << "T_c " << tc << " k_s " << ks << " k_f " << kf;
             }
     std::printf("collapsed vs full axes over 45 looks: worst relative RMSE %.2e, worst alpha %.2e\n", worst_rgb,

@@ -186,12 +186,12 @@ TEST(BakeHardCases, CameraLookingAwaySeesNothing) {
 // kappa rho 0.5 / |dir.z| (kappa = 0.965 at T_c 0.3: 0.48 at the centre, 0.59 at the corner
 // pixels), and a pixel's alpha is the mean over its 3 x 3 footprint rays of
 // 1 - exp(-kappa rho 0.5 / |dir.z|).
-// Tolerance: the march is a midpoint rule with steps of h = 1/4 voxel, exact on the flat part; each
-// of the ramp's two kinks (slope change rho |dir.z| / edge along the ray) adds at most
-// rho |dir.z| / edge * h^2 / 8 = rho |dir.z| edge / 128 <= 9.8e-4 of density path, so alpha is off
-// by at most kappa * 2 * 9.8e-4 * (1 - alpha) = 1.9e-3 (1 - alpha). Measured: density paths off by
-// up to 4.8e-4 (9.2e-4 relative, the kinks not cancelling) and alpha by up to 3.1e-4, 5.1e-4 of
-// (1 - alpha), the same in the traced depth maps and in the compressed, reconstructed image.
+// Tolerance: the march is a midpoint rule with steps of h = step_voxels (1/8 voxel by default),
+// exact on the flat part; each of the ramp's two kinks (slope change rho |dir.z| / edge along the
+// ray) adds at most rho |dir.z| / edge * (h edge)^2 / 8 = rho |dir.z| edge h^2 / 8 <= 2.4e-4 of
+// density path, so alpha is off by at most kappa * 2 * 2.4e-4 * (1 - alpha) = 4.7e-4 (1 - alpha).
+// Measured at h = 1/4 (the default before issue 27): density paths off by up to 4.8e-4 and alpha by
+// up to 5.1e-4 of (1 - alpha) against a bound of 1.9e-3; at h = 1/8 alpha is off by up to 9.0e-5.
 TEST(BakeHardCases, CameraInsideTheVolume) {
     const float rho = 1.0f, temperature = 0.5f;
     const render::Medium medium = unitBox(rho, temperature);
@@ -199,12 +199,12 @@ TEST(BakeHardCases, CameraInsideTheVolume) {
     const render::Camera inside =
         render::Camera::lookAt({0.0, 0.0, 0.0}, {0.0, 0.0, -1.0}, {0.0, 1.0, 0.0}, degrees(60.0), 8, 8);
     const TraceSettings settings = fastTrace();
-    ASSERT_EQ(settings.step_voxels, 0.25);
     const FrameBasis b = traceFrameBasis(medium, inside, m, settings);
     expectFinite(b);
     const ExtinctionParams theta = m.axes.point(0);
     const double kappa = extinctionPerDensity(temperature, theta, m.bins);
-    const double edge = medium.minVoxelEdge(), kink = rho * edge * 0.25 * 0.25 / 8.0;
+    const double edge = medium.minVoxelEdge(), h = settings.step_voxels,
+                 kink = rho * edge * h * h / 8.0;
     const std::vector<float> rgba = compressAndRender(m, b, theta);
     const int n = footprintSamplesPerAxis(settings, inside.width(), inside.height());
     ASSERT_EQ(b.footprint_samples, n * n);
