@@ -13,7 +13,7 @@ namespace firelook::cli {
 
 // How Cycles marches and bounces, chosen by measurement (cycles_scene.cpp gives the figures).
 struct CyclesSettings {
-    double step_voxels = 0.25;   // the volume's step in voxels of its density grid
+    double step_voxels = 0.5;    // the volume's step in voxels of its density grid
     int volume_max_steps = 8192;  // so that the step is never stretched to fit the cap
     int volume_bounces = 1024;   // scattering orders; Russian roulette ends paths long before
 };
