@@ -190,11 +190,15 @@ class FIRELOOK_OT_bake(bpy.types.Operator):
     """Bake the fluid domain's cache, with the scene's camera and suns, into the FireLook package"""
     bl_idname = "firelook.bake"
     bl_label = "Bake FireLook Package"
+    running = False  # one bake at a time: a second would write the same package
 
     def start(self, context):
+        if FIRELOOK_OT_bake.running:
+            raise FireLookError("a FireLook bake is already running")
         command, self.package = bake_command(context)
         self.log = []
         self.process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        FIRELOOK_OT_bake.running = True
         self.lines = queue.Queue()
         threading.Thread(target=pump, args=(self.process.stdout, self.lines), daemon=True).start()
         context.window_manager.progress_begin(0, 100)
@@ -216,6 +220,7 @@ class FIRELOOK_OT_bake(bpy.types.Operator):
 
     def end(self, context):
         code = self.process.wait()
+        FIRELOOK_OT_bake.running = False
         finish_progress(context)
         if code != 0:
             errors = [line for line in self.log if "error" in line] or self.log[-1:]
