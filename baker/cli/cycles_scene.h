@@ -11,7 +11,8 @@
 
 namespace firelook::cli {
 
-// How Cycles marches and bounces, chosen by measurement (cycles_scene.cpp gives the figures).
+// How Cycles marches and bounces. The step: against 0.25 voxel, 1 voxel moved a 64x64 image by at
+// most 0.28% relative RMSE and 0.02% image mean (README, "Blender"); 0.5 keeps a quarter of that.
 struct CyclesSettings {
     double step_voxels = 0.5;    // the volume's step in voxels of its density grid
     int volume_max_steps = 8192;  // so that the step is never stretched to fit the cap

@@ -180,8 +180,8 @@ def add_volume(scene):
     # OpenVDB and FireLook put it at (i,j,k) (docs/model.md): the object moves back by half a voxel
     # along each index axis, so that Cycles' trilinear interpolation is FireLook's. Measured on frame
     # 7 of the bundled sample (emission only, 64x64): without it 10.3% relative RMSE, with it 2.4%.
-    # The object is otherwise the identity, so object space is world space and densities are per world
-    # unit in both.
+    # The object is otherwise unrotated and unscaled, so densities and the step are per world unit, as
+    # in FireLook.
     obj_offset = -(matrix.to_3x3() @ mathutils.Vector((0.5, 0.5, 0.5)))
     data.render.space = "WORLD"
     data.render.step_size = SCENE["step_voxels"] * voxel

@@ -8,9 +8,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <string>
+#include <vector>
 
 #include "blender_support.h"
 #include "image/image_io.h"
@@ -129,6 +131,37 @@ TEST(CyclesRoundTrip, ThreeLooksOnTwoFramesMatchTheReference) {
             // Noise that hides a 1% bias would make the first check empty.
             EXPECT_LE(std::hypot(j.cycles_noise, j.reference_noise), 0.04) << tag;
         }
+}
+
+// docs/cli.md: the script's failure is one line and exit 1, and a render leaves only its image (the
+// temporary it writes first is renamed).
+TEST(CyclesScript, MissingFrameFileIsOneLineAndARenderLeavesOnlyItsImage) {
+    if (const std::string why = whyNoBlender(); !why.empty()) GTEST_SKIP() << why;
+    TempDir dir;
+    std::ofstream(dir / "bake.json") << kCyclesBakeConfig;
+    const CommandResult bake =
+        runFirelook(dir, "bake '" + kSample + "' --frames 3 --size 8x8 --up z --config bake.json -o pkg.firelook");
+    ASSERT_EQ(bake.exit_code, 0) << bake.err;
+    std::filesystem::create_directory(dir / "moved");
+    std::filesystem::copy_file(std::filesystem::path(kSample) / "fluid_data_0003.vdb", dir / "moved" / "fluid_data_0003.vdb");
+    ASSERT_EQ(runFirelook(dir, "export-cycles pkg.firelook --frame 3 --sequence moved -o scene.py").exit_code, 0);
+
+    std::filesystem::create_directory(dir / "out");
+    const CommandResult rendered = runIn(dir, "blender -b --factory-startup --python scene.py -- --spp 1 -o out/frame.exr");
+    ASSERT_EQ(rendered.exit_code, 0) << rendered.out << rendered.err;
+    std::vector<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator(dir / "out")) names.push_back(entry.path().filename());
+    EXPECT_EQ(names, std::vector<std::string>{"frame.exr"});
+    EXPECT_EQ(firelook::image::readImage(dir / "out" / "frame.exr").width, 8);
+
+    std::filesystem::remove(dir / "moved" / "fluid_data_0003.vdb");
+    const CommandResult missing = runIn(dir, "blender -b --factory-startup --python scene.py -- --spp 1 -o out/gone.exr");
+    EXPECT_EQ(missing.exit_code, 1) << missing.out << missing.err;
+    const std::vector<std::string> errors = lines(missing.err);
+    ASSERT_EQ(errors.size(), 1u) << missing.err;
+    EXPECT_EQ(errors[0].rfind("scene.py: error: ", 0), 0u) << errors[0];
+    EXPECT_NE(errors[0].find("fluid_data_0003.vdb"), std::string::npos) << errors[0];
+    EXPECT_FALSE(std::filesystem::exists(dir / "out" / "gone.exr"));
 }
 
 }  // namespace
