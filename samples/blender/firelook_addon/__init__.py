@@ -105,7 +105,6 @@ def write_scene_gltf(context, path):
         document["extensionsUsed"] = ["KHR_lights_punctual"]
         document["extensions"] = {"KHR_lights_punctual": {"lights": lights}}
     write_atomically(path, json.dumps(document, indent=1))
-    return len(lights)
 
 
 def vertical_fov(camera, width, height):
