@@ -33,11 +33,12 @@ for flavour in release asan; do
   # Each test runs once, in the flavour that checks the most: under ASan + UBSan (the same -O2 code
   # with every access checked), except three labels that run in the release flavour only. The
   # accuracy guard (tests/accuracy): the same arithmetic under the sanitizers takes ten times as
-  # long. The pipeline tests (tests/pipeline): scripts, a Slurm cluster and CMake around the bakes
+  # long. The Blender tests (tests/blender): Blender is not sanitized, and the references they trace
+  # take ten times as long under the sanitizers. The pipeline tests (tests/pipeline): scripts, a Slurm cluster and CMake around the bakes
   # and merges that tests/bake and tests/cli run under the sanitizers. The tools (tests/tools): the
   # scale bake's memory estimate is held to the peak of the normal build, which ASan's shadow
   # memory inflates.
-  release_only='accuracy|pipeline|tools'  # tests/CMakeLists.txt's FIRELOOK_RELEASE_ONLY_LABELS
+  release_only='accuracy|blender|pipeline|tools'  # tests/CMakeLists.txt's FIRELOOK_RELEASE_ONLY_LABELS
   if [[ "$flavour" == release ]]; then selection=(-L "$release_only"); else selection=(-LE "bench|$release_only"); fi
   # Per-test seconds in build/<flavour>/ctest-junit.xml: where the time goes when CI grows slow.
   ctest --test-dir "$root/build/$flavour" --output-on-failure -j "$jobs" "${selection[@]}" \

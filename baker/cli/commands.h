@@ -19,5 +19,6 @@ void registerMergeCommand(CLI::App& app);
 void registerSplitCommand(CLI::App& app);
 void registerFitCommand(CLI::App& app);
 void registerFlipbookCommand(CLI::App& app);
+void registerExportCyclesCommand(CLI::App& app);
 
 }  // namespace firelook::cli

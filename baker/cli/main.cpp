@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
     firelook::cli::registerSplitCommand(app);
     firelook::cli::registerFitCommand(app);
     firelook::cli::registerFlipbookCommand(app);
+    firelook::cli::registerExportCyclesCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -13,6 +13,10 @@
 
 namespace firelook::basis {
 
+// Throws LookError (naming look.source_name) when the look's albedo differs from the baked one
+// (albedo is fixed at bake time).
+void checkBakedAlbedo(const BakeDescription& description, const Look& look);
+
 // Throws LookError (naming look.source_name) when the albedo differs from the
 // baked one or the number of lights or bins does not match.
 void renderLookImage(const BakeDescription& description, const ResidentFrame& frame, const Look& look,

@@ -57,9 +57,9 @@ TEST(Cli, HelpExitsZero) {
     TempDir dir;
     CommandResult r = runFirelook(dir, "--help");
     EXPECT_EQ(r.exit_code, 0) << r.err;
-    for (const char* command : {"info", "reference", "bake", "render"})
+    for (const char* command : {"info", "reference", "bake", "render", "export-cycles"})
         EXPECT_NE(r.out.find(command), std::string::npos) << command << " missing from: " << r.out;
-    for (const char* command : {"bake", "render"}) {
+    for (const char* command : {"bake", "render", "export-cycles"}) {
         r = runFirelook(dir, std::string(command) + " --help");
         EXPECT_EQ(r.exit_code, 0) << command << ": " << r.err;
         EXPECT_FALSE(r.out.empty()) << command;
