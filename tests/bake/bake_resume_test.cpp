@@ -45,7 +45,7 @@ TEST(BakeResume, ACancelledBakeResumesToTheSameBytes) {
     bakePackage(FIRELOOK_SAMPLE_DIR, dir / "whole.firelook", threeFrames(), "test");
     const auto out = dir / "out.firelook";
     bakeTwoOfThree(FIRELOOK_SAMPLE_DIR, out, threeFrames());
-    const BakeReport report = bakePackage(FIRELOOK_SAMPLE_DIR, out, threeFrames(), "test", {}, {}, {.resume = true});
+    const BakeReport report = bakePackage(FIRELOOK_SAMPLE_DIR, out, threeFrames(), "test", {}, {}, {.resume = true, .plan = {}, .plan_file = {}});
     EXPECT_EQ(resumedFlags(report), (std::vector<bool>{true, true, false}));
     EXPECT_GT(report.frames[0].rank, 0) << "a resumed frame reports what its bake recorded";
     EXPECT_TRUE(fileBytes(out) == fileBytes(dir / "whole.firelook"));
@@ -68,7 +68,7 @@ TEST(BakeResume, FramesBakedWithOtherSettingsAreBakedAgain) {
     std::vector<std::string> notices;
     const BakeReport report = bakePackage(
         FIRELOOK_SAMPLE_DIR, out, threeFrames(2), "test", {}, [&](const std::string& line) { notices.push_back(line); },
-        {.resume = true});
+        {.resume = true, .plan = {}, .plan_file = {}});
     EXPECT_EQ(resumedFlags(report), (std::vector<bool>{false, false, false}));
     ASSERT_EQ(notices.size(), 2u);
     EXPECT_NE(notices[0].find("frame 1: not resumed"), std::string::npos) << notices[0];
@@ -100,7 +100,7 @@ TEST(BakeResume, AFrameWhoseFileChangedOrWhosePartIsDamagedIsBakedAgain) {
     }
     std::vector<std::string> notices;
     const BakeReport report = bakePackage(
-        sequence, out, c, "test", {}, [&](const std::string& line) { notices.push_back(line); }, {.resume = true});
+        sequence, out, c, "test", {}, [&](const std::string& line) { notices.push_back(line); }, {.resume = true, .plan = {}, .plan_file = {}});
     EXPECT_EQ(resumedFlags(report), (std::vector<bool>{false, false, false}));
     ASSERT_EQ(notices.size(), 2u);
     EXPECT_NE(notices[0].find("frame 1: not resumed"), std::string::npos) << notices[0];
