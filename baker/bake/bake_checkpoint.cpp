@@ -72,10 +72,12 @@ std::optional<FrameMetadata> BakeCheckpoint::reusable(int frame, const nlohmann:
         if (entries.source.value("xxh3_64", std::string()) != source_hash)
             throw Error(ErrorCode::InvalidArgument, "the frame's input file has changed since");
         const nlohmann::ordered_json::json_pointer identity("/provenance/sequence_xxh3_64");
-        if (kept.shared.contains(identity) && shared.contains(identity) && kept.shared.at(identity) != shared.at(identity))
-            throw Error(ErrorCode::InvalidArgument, "another frame of the sequence has changed since (sequence xxh3 " +
-                                                        kept.shared.at(identity).get<std::string>() + " then, " +
-                                                        shared.at(identity).get<std::string>() + " now)");
+        if (kept.shared.contains(identity) && shared.contains(identity) &&
+            kept.shared.at(identity) != shared.at(identity))
+            throw Error(ErrorCode::InvalidArgument,
+                        "another frame of the sequence has changed since (sequence xxh3 " +
+                            kept.shared.at(identity).get<std::string>() + " then, " +
+                            shared.at(identity).get<std::string>() + " now)");
         if (const std::string d = firstDifference(shared, kept.shared); !d.empty())
             throw Error(ErrorCode::InvalidArgument, "it was baked with other settings (" + d + ")");
         // Every section's checksum, so a part damaged on disk is baked again rather than merged.

@@ -34,12 +34,15 @@ void surveyFrame(const vdb::VolumeFrame& frame, SequenceSurvey& survey, Temperat
 }
 
 ordered_json vec3Json(const glm::dvec3& v) { return ordered_json::array({v.x, v.y, v.z}); }
-glm::dvec3 vec3From(const ordered_json& j) { return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()}; }
+glm::dvec3 vec3From(const ordered_json& j) {
+    return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
+}
 
 }  // namespace
 
 const PlannedFrame* SequencePlan::find(int number) const {
-    const auto it = std::find_if(frames.begin(), frames.end(), [&](const PlannedFrame& f) { return f.number == number; });
+    const auto it =
+        std::find_if(frames.begin(), frames.end(), [&](const PlannedFrame& f) { return f.number == number; });
     return it == frames.end() ? nullptr : &*it;
 }
 
@@ -62,7 +65,8 @@ std::string fileXxh3(const std::filesystem::path& file) {
     return hex16(hash);
 }
 
-SequenceSurvey surveySequence(const vdb::VdbSequence& sequence, const std::function<bool(int frame)>& keep_going) {
+SequenceSurvey surveySequence(const vdb::VdbSequence& sequence,
+                              const std::function<bool(int frame)>& keep_going) {
     SequenceSurvey survey;
     TemperatureSpan span;
     for (const vdb::FrameFile& f : sequence.frames()) {
@@ -73,7 +77,8 @@ SequenceSurvey surveySequence(const vdb::VdbSequence& sequence, const std::funct
     return survey;
 }
 
-SequencePlan planSequence(const vdb::VdbSequence& sequence, const std::function<bool(int frame)>& keep_going) {
+SequencePlan planSequence(const vdb::VdbSequence& sequence,
+                          const std::function<bool(int frame)>& keep_going) {
     SequencePlan plan;
     plan.read = sequence.options();
     plan.world_bounds = sequence.sequenceWorldBounds();
@@ -92,7 +97,8 @@ SequencePlan planSequence(const vdb::VdbSequence& sequence, const std::function<
 
 std::string planToJson(const SequencePlan& plan, const std::string& sequence_path) {
     ordered_json frames = ordered_json::array();
-    for (const PlannedFrame& f : plan.frames) frames.push_back({{"frame", f.number}, {"file", f.file}, {"xxh3_64", f.xxh3_64}});
+    for (const PlannedFrame& f : plan.frames)
+        frames.push_back({{"frame", f.number}, {"file", f.file}, {"xxh3_64", f.xxh3_64}});
     const SequenceSurvey& s = plan.survey;
     ordered_json doc = {
         {"firelook_plan", kPlanVersion},
@@ -110,7 +116,10 @@ std::string planToJson(const SequencePlan& plan, const std::string& sequence_pat
                                                    : ordered_json{{"min", vec3Json(plan.world_bounds.min)},
                                                                   {"max", vec3Json(plan.world_bounds.max)}}},
         {"temperature_range", {s.temperature_range.first, s.temperature_range.second}},
-        {"temperatures", {{"any_density", s.temperatures.any_density}, {"t_min", s.temperatures.t_min}, {"t_max", s.temperatures.t_max}}},
+        {"temperatures",
+         {{"any_density", s.temperatures.any_density},
+          {"t_min", s.temperatures.t_min},
+          {"t_max", s.temperatures.t_max}}},
         {"density",
          {{"any_density", s.density.any_density},
           {"depth", s.density.depth},
@@ -143,7 +152,8 @@ SequencePlan planFromJson(const std::string& text, const std::filesystem::path& 
             plan.world_bounds.max = vec3From(b.at("max"));
         }
         SequenceSurvey& s = plan.survey;
-        s.temperature_range = {doc.at("temperature_range").at(0).get<double>(), doc.at("temperature_range").at(1).get<double>()};
+        s.temperature_range = {doc.at("temperature_range").at(0).get<double>(),
+                               doc.at("temperature_range").at(1).get<double>()};
         const ordered_json& t = doc.at("temperatures");
         s.temperatures.any_density = t.at("any_density").get<bool>();
         s.temperatures.t_min = t.at("t_min").get<double>();
@@ -154,7 +164,8 @@ SequencePlan planFromJson(const std::string& text, const std::filesystem::path& 
         s.density.density_p99 = d.at("density_p99").get<double>();
         s.density.dense_side = d.at("dense_side").get<double>();
         for (const ordered_json& f : doc.at("frames"))
-            plan.frames.push_back({f.at("frame").get<int>(), f.at("file").get<std::string>(), f.at("xxh3_64").get<std::string>()});
+            plan.frames.push_back({f.at("frame").get<int>(), f.at("file").get<std::string>(),
+                                   f.at("xxh3_64").get<std::string>()});
     } catch (const nlohmann::json::exception& e) {
         throw Error(ErrorCode::Corrupt, file.string() + ": not a complete plan (" + e.what() + ")");
     }
@@ -175,19 +186,23 @@ vdb::ReadOptions plannedReadOptions(const SequencePlan& plan, vdb::ReadOptions r
     if (!requested.temperature_grid.empty() && requested.temperature_grid != plan.read.temperature_grid)
         throw differs("temperature grid", plan.read.temperature_grid, requested.temperature_grid);
     if (requested.temperature_scale != plan.read.temperature_scale)
-        throw differs("temperature_scale", text(plan.read.temperature_scale), text(requested.temperature_scale));
+        throw differs("temperature_scale", text(plan.read.temperature_scale),
+                      text(requested.temperature_scale));
     if (requested.temperature_offset != plan.read.temperature_offset)
-        throw differs("temperature_offset", text(plan.read.temperature_offset), text(requested.temperature_offset));
+        throw differs("temperature_offset", text(plan.read.temperature_offset),
+                      text(requested.temperature_offset));
     if (requested.density_scale != plan.read.density_scale)
         throw differs("density_scale", text(plan.read.density_scale), text(requested.density_scale));
     if (requested.clamp_extreme != plan.read.clamp_extreme)
-        throw differs("clamp_extreme", plan.read.clamp_extreme ? "on" : "off", requested.clamp_extreme ? "on" : "off");
+        throw differs("clamp_extreme", plan.read.clamp_extreme ? "on" : "off",
+                      requested.clamp_extreme ? "on" : "off");
     requested.density_grid = plan.read.density_grid;
     requested.temperature_grid = plan.read.temperature_grid;
     return requested;
 }
 
-void checkPlanFiles(const SequencePlan& plan, const vdb::VdbSequence& sequence, const std::filesystem::path& plan_file) {
+void checkPlanFiles(const SequencePlan& plan, const vdb::VdbSequence& sequence,
+                    const std::filesystem::path& plan_file) {
     for (const vdb::FrameFile& f : sequence.frames()) {
         const PlannedFrame* planned = plan.find(f.number);
         if (!planned || planned->file != f.path.filename().string())
@@ -201,8 +216,9 @@ void checkPlanFiles(const SequencePlan& plan, const vdb::VdbSequence& sequence, 
         for (const PlannedFrame& p : plan.frames)
             if (!sequence.hasFrame(p.number))
                 throw Error(ErrorCode::InvalidArgument,
-                            plan_file.string() + ": its frame " + std::to_string(p.number) + " (" + p.file + ") is not in " +
-                                sequence.source() + ": the plan was made from another sequence or before frames changed");
+                            plan_file.string() + ": its frame " + std::to_string(p.number) + " (" + p.file +
+                                ") is not in " + sequence.source() +
+                                ": the plan was made from another sequence or before frames changed");
 }
 
 }  // namespace firelook::bake

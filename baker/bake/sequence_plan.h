@@ -56,7 +56,8 @@ std::string xxh3Hex(const std::string& text);
 std::string fileXxh3(const std::filesystem::path& file);
 
 // Reads every frame once: its hash, and the survey. keep_going(frame) false cancels (throws).
-SequencePlan planSequence(const vdb::VdbSequence& sequence, const std::function<bool(int frame)>& keep_going = {});
+SequencePlan planSequence(const vdb::VdbSequence& sequence,
+                          const std::function<bool(int frame)>& keep_going = {});
 
 // The plan file: JSON with every number written to round-trip exactly, so a bake from the file
 // writes the bytes of a bake that surveyed the sequence itself. `sequence_path` is recorded as
@@ -73,6 +74,7 @@ vdb::ReadOptions plannedReadOptions(const SequencePlan& plan, vdb::ReadOptions r
 
 // Throws an InvalidArgument Error naming `plan_file` when the sequence's files (numbers and names)
 // are not the plan's: the plan was made from another sequence or before frames were added or removed.
-void checkPlanFiles(const SequencePlan& plan, const vdb::VdbSequence& sequence, const std::filesystem::path& plan_file);
+void checkPlanFiles(const SequencePlan& plan, const vdb::VdbSequence& sequence,
+                    const std::filesystem::path& plan_file);
 
 }  // namespace firelook::bake

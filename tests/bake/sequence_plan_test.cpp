@@ -1,13 +1,14 @@
 // The plan a farm's shards bake from (bake/sequence_plan.h): written and read back it is the
 // plan, number for number, so a shard with a plan derives the axes, bins and camera a bake without
 // one derives; the sequence's identity is its frames' content, not the path it is read from.
+#include "bake/sequence_plan.h"
+
 #include <gtest/gtest.h>
 
 #include <string>
 
 #include "../support/temp_dir.h"
 #include "bake/bake_pipeline.h"
-#include "bake/sequence_plan.h"
 #include "common/error.h"
 #include "tiny_sample_bake.h"
 
@@ -71,13 +72,18 @@ TEST(SequencePlan, TheSameFilesAnywhereAreTheSameSequence) {
     for (const char* folder : {"a", "b"}) {
         std::filesystem::create_directory(dir / folder);
         for (const char* name : {"fluid_data_0001.vdb", "fluid_data_0002.vdb"})
-            std::filesystem::copy_file(std::filesystem::path(FIRELOOK_SAMPLE_DIR) / name, dir / folder / name);
+            std::filesystem::copy_file(std::filesystem::path(FIRELOOK_SAMPLE_DIR) / name,
+                                       dir / folder / name);
     }
     const std::string a = planSequence(vdb::VdbSequence::open((dir / "a").string())).sequence_xxh3_64;
-    EXPECT_EQ(planSequence(vdb::VdbSequence::open((dir / "b" / "fluid_data_####.vdb").string())).sequence_xxh3_64, a);
+    EXPECT_EQ(
+        planSequence(vdb::VdbSequence::open((dir / "b" / "fluid_data_####.vdb").string())).sequence_xxh3_64,
+        a);
     std::filesystem::copy_file(std::filesystem::path(FIRELOOK_SAMPLE_DIR) / "fluid_data_0003.vdb",
-                               dir / "b" / "fluid_data_0002.vdb", std::filesystem::copy_options::overwrite_existing);
-    EXPECT_NE(planSequence(vdb::VdbSequence::open((dir / "b").string())).sequence_xxh3_64, a) << "another frame 2";
+                               dir / "b" / "fluid_data_0002.vdb",
+                               std::filesystem::copy_options::overwrite_existing);
+    EXPECT_NE(planSequence(vdb::VdbSequence::open((dir / "b").string())).sequence_xxh3_64, a)
+        << "another frame 2";
 }
 
 TEST(SequencePlan, RefusesWhatIsNotAPlanOfThisVersion) {
@@ -89,7 +95,8 @@ TEST(SequencePlan, RefusesWhatIsNotAPlanOfThisVersion) {
         }
         return std::string("accepted");
     };
-    EXPECT_NE(message("[1, 2]").find("p.json: not a plan written by firelook bake --plan-only"), std::string::npos);
+    EXPECT_NE(message("[1, 2]").find("p.json: not a plan written by firelook bake --plan-only"),
+              std::string::npos);
     EXPECT_NE(message(R"({"firelook_plan": 2})").find("p.json: plan version 2"), std::string::npos);
     EXPECT_NE(message(R"({"firelook_plan": 1, "sequence_xxh3_64": "0"})").find("p.json: not a complete plan"),
               std::string::npos);

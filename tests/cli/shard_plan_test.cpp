@@ -28,7 +28,8 @@ const std::string kShardSettings = " --size 16x16 --up z --config bake.json";
 void copyFrames(const fs::path& folder, const std::vector<int>& frames, const std::vector<int>& from) {
     fs::create_directories(folder);
     const auto name = [](int n) { return "fluid_data_000" + std::to_string(n) + ".vdb"; };
-    for (size_t i = 0; i < frames.size(); ++i) fs::copy_file(fs::path(kSample) / name(from[i]), folder / name(frames[i]));
+    for (size_t i = 0; i < frames.size(); ++i)
+        fs::copy_file(fs::path(kSample) / name(from[i]), folder / name(frames[i]));
 }
 
 // A failure: non-zero exit and one error line on stderr, the last, naming `mentions` (a bake's
@@ -37,13 +38,17 @@ void expectTheOneErrorLine(const CommandResult& r, const std::string& mentions) 
     EXPECT_NE(r.exit_code, 0) << r.out << r.err;
     const std::vector<std::string> err = lines(r.err);
     ASSERT_FALSE(err.empty()) << "no error message";
-    EXPECT_EQ(std::count_if(err.begin(), err.end(), [](const std::string& l) { return l.rfind("firelook: error: ", 0) == 0; }), 1)
+    EXPECT_EQ(std::count_if(err.begin(), err.end(),
+                            [](const std::string& l) { return l.rfind("firelook: error: ", 0) == 0; }),
+              1)
         << r.err;
     EXPECT_EQ(err.back().rfind("firelook: error: ", 0), 0u) << r.err;
     EXPECT_NE(err.back().find(mentions), std::string::npos) << "expected '" << mentions << "' in: " << r.err;
 }
 
-CommandResult bake(const TempDir& dir, const std::string& args) { return runFirelook(dir, "bake " + args + kShardSettings); }
+CommandResult bake(const TempDir& dir, const std::string& args) {
+    return runFirelook(dir, "bake " + args + kShardSettings);
+}
 
 TEST(CliFarm, TheSameFilesUnderAnyPathBakeTheSameBytes) {
     TempDir dir;
@@ -56,7 +61,8 @@ TEST(CliFarm, TheSameFilesUnderAnyPathBakeTheSameBytes) {
     ASSERT_EQ(bake(dir, elsewhere + " -o elsewhere.firelook --report elsewhere.json").exit_code, 0);
     const std::string typed = readFile(dir / "typed.firelook");
     EXPECT_TRUE(readFile(dir / "dotted.firelook") == typed) << "seq and ./seq/ baked different bytes";
-    EXPECT_TRUE(readFile(dir / "elsewhere.firelook") == typed) << "a copy at another path baked different bytes";
+    EXPECT_TRUE(readFile(dir / "elsewhere.firelook") == typed)
+        << "a copy at another path baked different bytes";
     // The path as typed stays in the bake's report, beside the identity the package records.
     const json typed_report = json::parse(readFile(dir / "typed.json"));
     const json elsewhere_report = json::parse(readFile(dir / "elsewhere.json"));
@@ -110,7 +116,8 @@ TEST(CliFarm, AShardWithAPlanReadsOnlyItsFrames) {
     json scaled = json::parse(kTinyBakeConfig);
     scaled["density_scale"] = 2.0;
     std::ofstream(dir / "scaled.json") << scaled.dump();
-    r = runFirelook(dir, "bake seq --plan plan.json --frames 1 -o s.firelook --size 16x16 --config scaled.json");
+    r = runFirelook(dir,
+                    "bake seq --plan plan.json --frames 1 -o s.firelook --size 16x16 --config scaled.json");
     expectTheOneErrorLine(r, "plan.json: made with density_scale 1.0, this bake reads 2.0");
     copyFrames(dir / "four", {1, 2, 3, 4}, {1, 2, 3, 4});
     r = bake(dir, "four --plan plan.json --frames 1 -o f.firelook");
