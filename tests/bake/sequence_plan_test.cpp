@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <string>
 
 #include "../support/temp_dir.h"
@@ -84,6 +85,26 @@ TEST(SequencePlan, TheSameFilesAnywhereAreTheSameSequence) {
                                std::filesystem::copy_options::overwrite_existing);
     EXPECT_NE(planSequence(vdb::VdbSequence::open((dir / "b").string())).sequence_xxh3_64, a)
         << "another frame 2";
+}
+
+// vdb::VdbSequence::openKnown, what a bake with a plan opens: the folder is listed, no file read
+// until a frame is loaded, so a broken frame fails only its own load.
+TEST(SequencePlan, OpeningWithAPlanReadsOnlyTheFramesLoaded) {
+    TempDir dir;
+    for (const char* name : {"fluid_data_0001.vdb", "fluid_data_0002.vdb"})
+        std::filesystem::copy_file(std::filesystem::path(FIRELOOK_SAMPLE_DIR) / name, dir / name);
+    const SequencePlan plan = planSequence(vdb::VdbSequence::open(dir.path().string()));
+    std::ofstream(dir / "fluid_data_0002.vdb", std::ios::trunc) << "not a VDB file";
+    EXPECT_THROW(vdb::VdbSequence::open(dir.path().string()), vdb::VdbError) << "open() reads every file";
+    const vdb::VdbSequence known =
+        vdb::VdbSequence::openKnown(dir.path().string(), plan.read, plan.world_bounds);
+    EXPECT_EQ(known.frames().size(), 2u);
+    EXPECT_EQ(known.sequenceWorldBounds().max, plan.world_bounds.max);
+    EXPECT_GT(known.load(1).density_stats.active_voxels, 0u);
+    EXPECT_THROW(known.load(2), vdb::VdbError);
+    EXPECT_THROW(vdb::VdbSequence::openKnown(dir.path().string(), vdb::ReadOptions{}, plan.world_bounds),
+                 vdb::VdbError)
+        << "without the grid names";
 }
 
 TEST(SequencePlan, RefusesWhatIsNotAPlanOfThisVersion) {
