@@ -64,13 +64,22 @@ std::optional<FrameMetadata> BakeCheckpoint::reusable(int frame, const nlohmann:
         const std::optional<std::string> meta = reader.metadata();
         if (!meta) throw Error(ErrorCode::Corrupt, "it has no metadata");
         const BakeMetadata kept = splitMetadata(*meta, path);
-        if (const std::string d = firstDifference(shared, kept.shared); !d.empty())
-            throw Error(ErrorCode::InvalidArgument, "it was baked with other settings (" + d + ")");
         if (kept.frames.size() != 1 || !kept.frames.contains(frame))
             throw Error(ErrorCode::Corrupt, "it does not hold exactly frame " + std::to_string(frame));
         const FrameMetadata& entries = kept.frames.at(frame);
+        // The most specific reason first: the frame's own file, then another frame of the sequence
+        // (which the sequence's identity covers), then the settings.
         if (entries.source.value("xxh3_64", std::string()) != source_hash)
             throw Error(ErrorCode::InvalidArgument, "the frame's input file has changed since");
+        const nlohmann::ordered_json::json_pointer identity("/provenance/sequence_xxh3_64");
+        if (kept.shared.contains(identity) && shared.contains(identity) &&
+            kept.shared.at(identity) != shared.at(identity))
+            throw Error(ErrorCode::InvalidArgument,
+                        "another frame of the sequence has changed since (sequence xxh3 " +
+                            kept.shared.at(identity).get<std::string>() + " then, " +
+                            shared.at(identity).get<std::string>() + " now)");
+        if (const std::string d = firstDifference(shared, kept.shared); !d.empty())
+            throw Error(ErrorCode::InvalidArgument, "it was baked with other settings (" + d + ")");
         // Every section's checksum, so a part damaged on disk is baked again rather than merged.
         for (const package::SectionInfo& s : reader.sections()) (void)reader.stored(s);
         return entries;

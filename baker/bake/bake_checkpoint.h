@@ -30,8 +30,9 @@ class BakeCheckpoint {
     std::filesystem::path partPath(int frame) const;
 
     // The entries of the part kept for `frame` when it was baked exactly like this bake (`shared`,
-    // the shared metadata) from an input file whose XXH3-64 is `source_hash`; otherwise nullopt,
-    // with the reason in `why` ("" when there is no part).
+    // the shared metadata, which holds the sequence's identity: every frame's file unchanged) from
+    // an input file whose XXH3-64 is `source_hash`; otherwise nullopt, with the reason in `why`
+    // ("" when there is no part): the frame's own file first, then another frame, then the settings.
     std::optional<FrameMetadata> reusable(int frame, const nlohmann::ordered_json& shared,
                                           const std::string& source_hash, std::string& why) const;
 

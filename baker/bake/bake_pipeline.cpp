@@ -3,12 +3,8 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-#define XXH_INLINE_ALL
-#include <xxhash.h>
-
 #include <algorithm>
 #include <chrono>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
@@ -16,6 +12,7 @@
 #include "bake/bake_metadata.h"
 #include "bake/fire_light_tracer.h"
 #include "bake/package_merge.h"
+#include "bake/sequence_plan.h"
 #include "basis/basis_package.h"
 #include "common/error.h"
 #include "look/look.h"
@@ -28,28 +25,6 @@ namespace {
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-std::string hexHash(XXH64_hash_t hash) {
-    char text[17];
-    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
-    return text;
-}
-
-std::string textHash(const std::string& text) { return hexHash(XXH3_64bits(text.data(), text.size())); }
-
-std::string fileHash(const std::filesystem::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    XXH3_state_t* state = XXH3_createState();
-    XXH3_64bits_reset(state);
-    std::vector<char> buffer(1 << 20);
-    while (in) {
-        in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
-        XXH3_64bits_update(state, buffer.data(), static_cast<size_t>(in.gcount()));
-    }
-    const XXH64_hash_t hash = XXH3_64bits_digest(state);
-    XXH3_freeState(state);
-    return hexHash(hash);
 }
 
 long peakMemoryKiB() {
@@ -107,37 +82,21 @@ FrameMemoryPlan frameMemoryPlan(const render::Medium& medium, const render::Came
     return plan;
 }
 
-SequenceSurvey surveySequence(const vdb::VdbSequence& sequence, const std::function<bool(int frame)>& keep_going) {
-    SequenceSurvey survey;
-    for (int frame : selectFrames(sequence, "")) {
-        if (keep_going && !keep_going(frame)) throw Error(ErrorCode::Cancelled, "cancelled");
-        const render::Medium medium = reference::mediumFromFrame(sequence.load(frame));
-        survey.temperatures.merge(densityTemperatureRange(medium));
-        survey.density.merge(densityDepth(medium));
-    }
-    return survey;
-}
-
 DescribedBake describeDerivedBake(const vdb::VdbSequence& sequence, const BakeConfig& config,
                                   const SceneSetup& scene, const SequenceSurvey* survey) {
     DescribedBake out;
     basis::BakeDescription& d = out.description;
     d.bins.count = config.bins;
-    if (config.t_lo && config.t_hi) {
-        d.bins.t_lo = *config.t_lo;
-        d.bins.t_hi = *config.t_hi;
-    } else {
-        const auto [lo, hi] = sequenceTemperatureRange(sequence);
-        d.bins.t_lo = config.t_lo.value_or(lo);
-        d.bins.t_hi = config.t_hi.value_or(hi);
-    }
+    const SequenceSurvey measured = survey ? SequenceSurvey{} : surveySequence(sequence);
+    const SequenceSurvey& surveyed = survey ? *survey : measured;
+    d.bins.t_lo = config.t_lo.value_or(surveyed.temperature_range.first);
+    d.bins.t_hi = config.t_hi.value_or(surveyed.temperature_range.second);
     if (!(d.bins.t_hi > d.bins.t_lo))
         throw Error(ErrorCode::InvalidArgument, "temperature range needs t_hi > t_lo");
     d.rbf_width = config.rbf_width;
     d.albedo = config.albedo;
     // The default look is always the data's; only the axes not given are mapped.
-    const SequenceSurvey measured = survey ? SequenceSurvey{} : surveySequence(sequence);
-    out.derivation = deriveAxes(config.axes, d.bins, (survey ? *survey : measured).density);
+    out.derivation = deriveAxes(config.axes, d.bins, surveyed.density);
     d.axes = derivedAxes(config.axes, out.derivation);
     basis::validateAxes(d.axes);
     const auto& tc = d.axes.temperature_threshold;
@@ -235,7 +194,7 @@ FrameBakeReport reportFromMetadata(int frame, const FrameMetadata& kept) {
 // The META document without its per-frame entries (bake_metadata.h): the description, provenance,
 // camera and axis analysis, all of them from the whole sequence and the settings, never from which
 // frames this process bakes, so that shards of a bake merge into the bytes of one bake.
-nlohmann::ordered_json sharedMetadata(const std::string& sequence_path, const vdb::VdbSequence& sequence,
+nlohmann::ordered_json sharedMetadata(const SequencePlan& plan, const vdb::VdbSequence& sequence,
                                       const BakeConfig& config, const std::string& tool_version,
                                       const SceneSetup& scene, const basis::BakeDescription& description,
                                       const BakeReport& report) {
@@ -251,7 +210,8 @@ nlohmann::ordered_json sharedMetadata(const std::string& sequence_path, const vd
     nlohmann::ordered_json extra;
     extra["provenance"] = {{"tool", "firelook"},
                            {"tool_version", tool_version},
-                           {"sequence", sequence_path},
+                           // The sequence by content, not by path: the same files anywhere bake alike.
+                           {"sequence_xxh3_64", plan.sequence_xxh3_64},
                            {"sequence_frames", selectFrames(sequence, "")},
                            {"density_grid", sequence.options().density_grid},
                            {"temperature_grid", sequence.options().temperature_grid},
@@ -260,7 +220,7 @@ nlohmann::ordered_json sharedMetadata(const std::string& sequence_path, const vd
                            {"clamp_extreme", sequence.options().clamp_extreme},
                            {"sources", nlohmann::ordered_json::array()},
                            {"settings", settings},
-                           {"settings_xxh3_64", textHash(settings_text)}};
+                           {"settings_xxh3_64", xxh3Hex(settings_text)}};
     // Only when set, so that packages read without it keep their bytes.
     if (sequence.options().density_scale != 1.0)
         extra["provenance"]["density_scale"] = sequence.options().density_scale;
@@ -287,20 +247,30 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
                        const std::function<bool(double, const std::string&)>& progress,
                        const std::function<void(const std::string&)>& notice, const BakeRunOptions& run) {
     const auto start = std::chrono::steady_clock::now();
-    const vdb::VdbSequence sequence = vdb::VdbSequence::open(sequence_path, config.read);
+    // With a plan (bake --plan) only the folder is listed and only the selected frames are read;
+    // without, every frame is read once here for the same plan.
+    std::optional<SequencePlan> plan = run.plan;
+    const vdb::VdbSequence sequence =
+        plan ? vdb::VdbSequence::openKnown(sequence_path, plannedReadOptions(*plan, config.read, run.plan_file),
+                                           plan->world_bounds)
+             : vdb::VdbSequence::open(sequence_path, config.read);
+    if (plan) checkPlanFiles(*plan, sequence, run.plan_file);
     const std::vector<int> frames = selectFrames(sequence, config.frames);
     const SceneSetup scene = resolveScene(sequence, config.scene);
     BakeReport report;
     // Before any tracing, since every frame of a package shares the axes: one extra load of each
     // frame of the whole sequence (not only the frames selected, so that shards agree), small
     // beside a frame's trace, measures what deriving the axes and the default look, and
-    // collapsing the axes, need.
+    // collapsing the axes, need, and hashes the frames' files (the sequence's identity).
     const basis::ParameterAxes ax = derivedAxes(config.axes, AxisDerivation{});  // counts only: a derivation maps values
     const bool collapse = config.collapse_unused_axes && (ax.temperature_threshold.size() > 1 ||
                                                           ax.smoke_extinction.size() > 1 || ax.flame_extinction.size() > 1);
-    const SequenceSurvey survey = surveySequence(sequence, [&](int frame) {
-        return !progress || progress(0.0, "frame " + std::to_string(frame) + ": checking the look axes");
-    });
+    if (!plan)
+        plan = planSequence(sequence, [&](int frame) {
+            return !progress || progress(0.0, "frame " + std::to_string(frame) + ": checking the look axes");
+        });
+    const SequenceSurvey& survey = plan->survey;
+    report.sequence_xxh3_64 = plan->sequence_xxh3_64;
     DescribedBake described = describeDerivedBake(sequence, config, scene, &survey);
     basis::BakeDescription& description = described.description;
     report.derivation = described.derivation;
@@ -316,7 +286,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
     }
     const BasisModel model = description;
     const nlohmann::ordered_json shared =
-        sharedMetadata(sequence_path, sequence, config, tool_version, scene, description, report);
+        sharedMetadata(*plan, sequence, config, tool_version, scene, description, report);
 
     // A size target shares the package's bytes equally among the sequence's frames (storage_target.h).
     const uint64_t share_bytes =
@@ -340,10 +310,17 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         };
         if (!frame_progress(0.0)) throw Error(ErrorCode::Cancelled, "cancelled");
         parts.push_back(checkpoint.partPath(frame_number));
-        const std::string source_hash = fileHash(
-            std::find_if(sequence.frames().begin(), sequence.frames().end(), [&](const vdb::FrameFile& f) {
-                return f.number == frame_number;
-            })->path);
+        // Every frame is hashed as it is baked and must be the file the plan hashed: a frame changed
+        // since then would mix two sequences in one package.
+        const vdb::FrameFile& file = *std::find_if(sequence.frames().begin(), sequence.frames().end(),
+                                                   [&](const vdb::FrameFile& f) { return f.number == frame_number; });
+        const std::string source_hash = fileXxh3(file.path);
+        if (source_hash != plan->find(frame_number)->xxh3_64)
+            throw Error(ErrorCode::InvalidArgument,
+                        file.path.string() + ": its content (xxh3 " + source_hash + ") is not what " +
+                            (run.plan ? run.plan_file.string() + " recorded" : "this bake read a moment ago") + " (" +
+                            plan->find(frame_number)->xxh3_64 + "): the frame changed" +
+                            (run.plan ? " since the plan was made; make the plan again" : " during the bake"));
         if (run.resume) {
             std::string why;
             if (const std::optional<FrameMetadata> kept = checkpoint.reusable(frame_number, shared, source_hash, why)) {

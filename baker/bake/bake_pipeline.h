@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "bake/axis_collapse.h"
 #include "bake/axis_derivation.h"
 #include "bake/bake_config.h"
+#include "bake/sequence_plan.h"
 #include "basis/bake_description.h"
 
 namespace firelook::bake {
@@ -55,6 +57,7 @@ struct FrameBakeReport {
 
 struct BakeReport {
     std::vector<FrameBakeReport> frames;
+    std::string sequence_xxh3_64;  // the sequence's identity (sequence_plan.h), as META records it
     double seconds = 0.0;
     uint64_t package_bytes = 0;
     uint64_t uncompressed_basis_bytes = 0;  // float32 basis images the package stands for
@@ -91,16 +94,6 @@ FrameMemoryPlan frameMemoryPlan(const render::Medium& medium, const render::Came
                                 const TraceSettings& trace, const CompressionSettings& compression,
                                 uint64_t budget_bytes);
 
-// What one pass over every frame of the whole sequence (never only the selected frames, so that
-// shards agree) measures for the axes: the temperatures where there is density (the axis collapse)
-// and the density statistic the extinction axes are derived from.
-struct SequenceSurvey {
-    DensityTemperatureRange temperatures;
-    DensityDepth density;
-};
-SequenceSurvey surveySequence(const vdb::VdbSequence& sequence,
-                              const std::function<bool(int frame)>& keep_going = {});
-
 // The description (bins, axes, lights, size) a bake of this sequence with this configuration
 // produces, with the axes not given explicitly derived from the data (axis_derivation.h) and the
 // default look in the data's units; also used by `reference` to match it. `survey`: the
@@ -119,6 +112,10 @@ struct BakeRunOptions {
     // Reuse the frames an interrupted bake of the same output kept (bake/bake_checkpoint.h) when
     // they were baked with the same settings from unchanged files; bake only the others.
     bool resume = false;
+    // What the whole sequence gives the bake (bake --plan), read from `plan_file`; without it the
+    // bake reads every frame once for it. The same bytes either way.
+    std::optional<SequencePlan> plan;
+    std::filesystem::path plan_file;
 };
 
 // Each finished frame is kept as its own small package in "<output>.partial/"; the package is

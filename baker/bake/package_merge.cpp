@@ -70,6 +70,19 @@ MergeResult mergePackages(const std::vector<std::filesystem::path>& paths, const
                             "." + std::to_string(part.reader.version().minor) + ", but " +
                             first.path.string() + " has " + std::to_string(first.reader.version().major) +
                             "." + std::to_string(first.reader.version().minor));
+        // The sequence first: a part of another sequence differs in many settings derived from it,
+        // and the first of those would hide the cause.
+        for (const char* key : {"sequence_xxh3_64", "sequence_frames"}) {
+            const nlohmann::ordered_json::json_pointer pointer(std::string("/provenance/") + key);
+            const auto value = [&](const Part& p) {
+                return p.meta.shared.contains(pointer) ? p.meta.shared.at(pointer) : nlohmann::ordered_json();
+            };
+            if (value(first) != value(part))
+                throw Error(ErrorCode::InvalidArgument,
+                            path.string() + ": baked from another sequence than " + first.path.string() +
+                                " (or from files whose content changed): provenance." +
+                                firstDifference({{key, value(first)}}, {{key, value(part)}}));
+        }
         if (const std::string d = firstDifference(first.meta.shared, part.meta.shared); !d.empty())
             throw Error(ErrorCode::InvalidArgument, path.string() + ": not baked like " +
                                                         first.path.string() +

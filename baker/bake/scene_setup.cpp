@@ -61,23 +61,27 @@ SceneSetup resolveScene(const vdb::VdbSequence& sequence, const SceneOptions& op
     return setup;
 }
 
-std::pair<double, double> sequenceTemperatureRange(const vdb::VdbSequence& sequence) {
+void TemperatureSpan::add(const vdb::VolumeFrame& frame) {
     // From the ambient temperature (the grid's background, after the read's temperature mapping:
     // 0 for Blender's 0-based heat, 300 for the same in Kelvin), so ambient air sits in bin 0 and
     // a mapped temperature gives the mapped range.
-    std::optional<double> lo, hi;
-    for (const vdb::FrameFile& file : sequence.frames()) {
-        const vdb::VolumeFrame frame = sequence.load(file.number);
-        const double ambient = frame.grids->temperature->background();
-        lo = std::min(lo.value_or(ambient), ambient);
-        hi = std::max(hi.value_or(ambient), ambient);
-        if (frame.temperature_stats.active_voxels == 0) continue;
-        lo = std::min(*lo, frame.temperature_stats.min);
-        hi = std::max(*hi, frame.temperature_stats.max);
-    }
-    if (!lo) lo = hi = 0.0;
-    if (!(*hi > *lo)) hi = *lo + 1.0;  // a constant field still needs a non-empty range
-    return {*lo, *hi};
+    const double ambient = frame.grids->temperature->background();
+    lo = std::min(lo.value_or(ambient), ambient);
+    hi = std::max(hi.value_or(ambient), ambient);
+    if (frame.temperature_stats.active_voxels == 0) return;
+    lo = std::min(*lo, frame.temperature_stats.min);
+    hi = std::max(*hi, frame.temperature_stats.max);
+}
+
+std::pair<double, double> TemperatureSpan::range() const {
+    const double l = lo.value_or(0.0), h = hi.value_or(0.0);
+    return {l, h > l ? h : l + 1.0};  // a constant field still needs a non-empty range
+}
+
+std::pair<double, double> sequenceTemperatureRange(const vdb::VdbSequence& sequence) {
+    TemperatureSpan span;
+    for (const vdb::FrameFile& file : sequence.frames()) span.add(sequence.load(file.number));
+    return span.range();
 }
 
 std::vector<std::pair<int, int>> parseFrameRanges(const std::string& selection) {

@@ -43,6 +43,12 @@ SceneSetup resolveScene(const vdb::VdbSequence& sequence, const SceneOptions& op
 // The range includes the temperature grids' background (ambient air: 0 for Blender's heat, 300 in
 // Kelvin), so ambient air sits in bin 0.
 std::pair<double, double> sequenceTemperatureRange(const vdb::VdbSequence& sequence);
+// The same range gathered one frame at a time (a bake's one pass over the sequence).
+struct TemperatureSpan {
+    std::optional<double> lo, hi;  // none before the first frame
+    void add(const vdb::VolumeFrame& frame);
+    std::pair<double, double> range() const;
+};
 
 // Parses "A-B,C,..." into its ranges ([first, last], a single frame as [C, C]); empty gives none.
 // An InvalidArgument Error naming the text when it is not such a list.

@@ -1,16 +1,21 @@
 // firelook bake SEQUENCE -o OUT.firelook [--frames A-B] [--size WxH] [--bins N]
 //                [--scene S.gltf | --camera ...] [--config BAKE.json] [--seed S] [--report R.json]
-//                [--resume] [--threads N]
+//                [--resume] [--threads N] [--plan PLAN.json]
+// firelook bake SEQUENCE --plan-only -o PLAN.json [read settings]
 #include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 
 #include "bake/bake_checkpoint.h"
 #include "bake/bake_pipeline.h"
+#include "bake/sequence_plan.h"
 #include "common/atomic_file.h"
+#include "common/error.h"
 #include "cli/commands.h"
 #include "cli/interrupt.h"
 #include "cli/output_option.h"
@@ -23,7 +28,7 @@ namespace firelook::cli {
 namespace {
 
 // Timings live here, not in the package: the package's bytes depend only on inputs and seed.
-void writeReportJson(const std::string& path, const bake::BakeReport& report) {
+void writeReportJson(const std::string& path, const std::string& sequence, const bake::BakeReport& report) {
     nlohmann::ordered_json frames = nlohmann::ordered_json::array();
     for (const bake::FrameBakeReport& f : report.frames)
         frames.push_back({{"frame", f.frame},
@@ -55,7 +60,11 @@ void writeReportJson(const std::string& path, const bake::BakeReport& report) {
                           {"predicted_relative_error", std::hypot(f.truncation_error, f.quantisation_error)}});
     for (size_t i = 0; i < report.frames.size(); ++i)
         if (report.frames[i].has_target) frames[i]["storage_target"] = bake::storageTargetEntry(report.frames[i]);
-    nlohmann::ordered_json doc = {{"seconds", report.seconds},
+    // The sequence's path as typed is provenance of this run, not of the package, whose bytes do
+    // not depend on it.
+    nlohmann::ordered_json doc = {{"sequence", sequence},
+                                  {"sequence_xxh3_64", report.sequence_xxh3_64},
+                                  {"seconds", report.seconds},
                                         {"peak_memory_mib", report.peak_memory_kib / 1024.0},
                                         {"memory_budget_mib", report.memory_budget_bytes / 1048576.0},
                                         {"package_bytes", report.package_bytes},
@@ -68,15 +77,39 @@ void writeReportJson(const std::string& path, const bake::BakeReport& report) {
     writeFileAtomically(path, doc.dump(2) + "\n");
 }
 
+bake::SequencePlan readPlan(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(ErrorCode::IoError, path + ": cannot open the plan");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return bake::planFromJson(text.str(), path);
+}
+
+// bake --plan-only: reads every frame once and writes what the whole sequence gives a bake.
+void writePlan(const std::string& sequence_path, const std::string& output, const bake::BakeConfig& config) {
+    ProgressBar bar("plan");
+    const vdb::VdbSequence sequence = vdb::VdbSequence::open(sequence_path, config.read);
+    size_t done = 0;
+    const bake::SequencePlan plan = bake::planSequence(sequence, [&](int frame) {
+        bar.update(double(done++) / sequence.frames().size(), "frame " + std::to_string(frame));
+        throwIfInterrupted();
+        return true;
+    });
+    writeFileAtomically(output, bake::planToJson(plan, sequence_path));
+    bar.finish(std::to_string(plan.frames.size()) + " frames");
+    std::printf("wrote %s: %zu frames (%d-%d), sequence xxh3 %s\n", output.c_str(), plan.frames.size(),
+                plan.frames.front().number, plan.frames.back().number, plan.sequence_xxh3_64.c_str());
+}
+
 }  // namespace
 
 void registerBakeCommand(CLI::App& app) {
     struct Args {
-        std::string sequence, output, frames, report_json, memory_budget;
+        std::string sequence, output, frames, report_json, memory_budget, plan;
         StorageTargetFlags target;
         uint64_t seed = 1;
         int threads = 0;
-        bool keep_axes = false, resume = false, fire_lights = false;
+        bool keep_axes = false, resume = false, fire_lights = false, plan_only = false;
         SceneFlags scene;
     };
     auto args = std::make_shared<Args>();
@@ -107,12 +140,23 @@ void registerBakeCommand(CLI::App& app) {
                   "continue an interrupted bake of the same output: the frames it finished (kept in "
                   "OUT.firelook.partial/) are reused when they were baked with the same settings from unchanged files, "
                   "and only the others are baked; the package is byte for byte the one an uninterrupted bake writes");
+    CLI::Option* plan_only = cmd->add_flag(
+        "--plan-only", args->plan_only,
+        "write a plan to -o instead of a package: every frame read once for what the whole sequence gives a bake "
+        "(frame hashes, bounds, temperature and density survey), for shards baked with --plan");
+    CLI::Option* plan = cmd->add_option(
+        "--plan", args->plan,
+        "bake with the plan --plan-only wrote (from the same sequence, with the same read settings): only the "
+        "frames of --frames are read, each checked against the plan's hash; the same bytes as without");
+    plan_only->excludes(plan);
+    for (const char* other : {"--frames", "--resume", "--report"}) plan_only->excludes(other);
     cmd->add_option("--threads", args->threads,
                     "worker threads (default: every core); the package's bytes do not depend on it")
         ->check(CLI::NonNegativeNumber);
     addSceneFlags(*cmd, args->scene);
     cmd->callback([cmd, args] {
         bake::BakeConfig config = makeBakeConfig(*cmd, args->scene);
+        if (args->plan_only) return writePlan(args->sequence, args->output, config);
         if (!args->frames.empty()) config.frames = args->frames;
         if (cmd->count("--seed") || args->scene.config.empty()) config.seed = args->seed;
         if (!args->memory_budget.empty()) config.memory_budget_bytes = bake::parseByteSize(args->memory_budget);
@@ -134,7 +178,9 @@ void registerBakeCommand(CLI::App& app) {
                     return true;
                 },
                 [](const std::string& line) { std::fprintf(stderr, "firelook: %s\n", line.c_str()); },
-                {.resume = args->resume});
+                {.resume = args->resume,
+                 .plan = args->plan.empty() ? std::nullopt : std::optional(readPlan(args->plan)),
+                 .plan_file = args->plan});
         } catch (...) {
             // Finished frames stay for --resume; say where, then report the failure itself.
             const size_t kept = bake::BakeCheckpoint::keptFrames(args->output);
@@ -175,7 +221,7 @@ void registerBakeCommand(CLI::App& app) {
         }
         std::printf("bake time %.1f s, peak memory %.0f MiB (budget %.0f MiB)\n", report.seconds,
                     report.peak_memory_kib / 1024.0, report.memory_budget_bytes / 1048576.0);
-        if (!args->report_json.empty()) writeReportJson(args->report_json, report);
+        if (!args->report_json.empty()) writeReportJson(args->report_json, args->sequence, report);
     });
 }
 

@@ -40,7 +40,10 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        // --help and --version print as CLI11 does; a usage error is one line, like every error.
+        if (e.get_exit_code() == 0) return app.exit(e);
+        std::fprintf(stderr, "firelook: error: %s (--help lists the options)\n", e.what());
+        return e.get_exit_code();
     } catch (const std::exception& e) {
         // After a signal, whatever unwinds (InterruptedError, or a library's "cancelled") is the
         // interruption.

@@ -7,15 +7,37 @@
 
 namespace firelook::vdb {
 
-VdbSequence VdbSequence::open(const std::string& folder_or_pattern, ReadOptions options) {
-    VdbSequence sequence;
-    sequence.source_ = folder_or_pattern;
-    sequence.frames_ = findFrameFiles(folder_or_pattern);
-    if (const std::vector<int> gaps = sequence.gaps(); !gaps.empty()) {
+namespace {
+
+// The files of a sequence, with its gaps warned about (or refused under --strict).
+std::vector<FrameFile> listFrames(const std::string& folder_or_pattern, const ReadOptions& options) {
+    std::vector<FrameFile> frames = findFrameFiles(folder_or_pattern);
+    if (const std::vector<int> gaps = missingFrameNumbers(frames); !gaps.empty()) {
         const std::string message = folder_or_pattern + ": " + describeMissingFrames(gaps);
         if (options.strict) throw VdbError(message + " (refused by --strict)");
         if (options.warn) options.warn(message);
     }
+    return frames;
+}
+
+}  // namespace
+
+VdbSequence VdbSequence::openKnown(const std::string& folder_or_pattern, ReadOptions options,
+                                   const Aabb& world_bounds) {
+    if (options.density_grid.empty() || options.temperature_grid.empty())
+        throw VdbError(folder_or_pattern + ": opening without reading needs both grid names");
+    VdbSequence sequence;
+    sequence.source_ = folder_or_pattern;
+    sequence.frames_ = listFrames(folder_or_pattern, options);
+    sequence.options_ = std::move(options);
+    sequence.world_bounds_ = world_bounds;
+    return sequence;
+}
+
+VdbSequence VdbSequence::open(const std::string& folder_or_pattern, ReadOptions options) {
+    VdbSequence sequence;
+    sequence.source_ = folder_or_pattern;
+    sequence.frames_ = listFrames(folder_or_pattern, options);
     const std::filesystem::path& first = sequence.frames_.front().path;
     resolveGridNames(options, listGridNames(first), first);
     sequence.options_ = std::move(options);

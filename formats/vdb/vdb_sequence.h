@@ -23,6 +23,12 @@ class VdbSequence {
     // accepted forms; a file that is not VDB, a missing grid, a non-float grid). Gaps in the frame
     // numbers go to options.warn ("SOURCE: frames 3, 5-7 missing"), or throw under options.strict.
     static VdbSequence open(const std::string& folder_or_pattern, ReadOptions options = {});
+    // The same sequence when its grid names (in `options`) and world bounds are already known, from
+    // a plan made by reading every frame once (baker/bake/sequence_plan.h): only the folder is
+    // listed, so no file is read until load(), and a frame that cannot be read fails only the
+    // process that loads it. Throws VdbError as open() does for the file names and the gaps, and
+    // when `options` does not name both grids.
+    static VdbSequence openKnown(const std::string& folder_or_pattern, ReadOptions options, const Aabb& world_bounds);
 
     const std::string& source() const { return source_; }
     const std::vector<FrameFile>& frames() const { return frames_; }

@@ -9,12 +9,17 @@
 #     [BAKE_ARGS <more firelook bake arguments>...]
 #     [JOB_POOL <ninja pool>] [EXCLUDE_FROM_ALL])
 #
+# Quote a pattern: CMake reads an unquoted '#' as the start of a comment, so SEQUENCE fx/fire_####.vdb
+# arrives as fx/fire_ (refused with a line that says so); write SEQUENCE "fx/fire_####.vdb".
+#
 # Relative SEQUENCE, CONFIG and SCENE paths are taken from the current source folder, a relative
 # OUTPUT from the current binary folder. The package is rebaked when any of its inputs changes:
 # every VDB file of the sequence (all of them, also with FRAMES: the default camera frames the
 # whole sequence), the config, the scene and the firelook executable. The sequence's files are
 # found when CMake configures, with CONFIGURE_DEPENDS, so a frame added or removed makes the next
-# build reconfigure. Packages are independent build steps: Ninja or Make bakes them in parallel
+# build reconfigure; the list of them is kept in <binary folder>/firelook/<name>.files, rewritten
+# only when it changes and a dependency of the package, so that a removed frame rebakes it too
+# (a missing input alone would not: the package is not older than any remaining file). Packages are independent build steps: Ninja or Make bakes them in parallel
 # (a JOB_POOL caps how many at once; each bake already uses every core). The custom target
 # <name> builds the package (part of `all` unless EXCLUDE_FROM_ALL); the bake writes it
 # atomically, so an interrupted build leaves the previous package or none.
@@ -53,8 +58,14 @@ function(_firelook_sequence_files out sequence)
     endif()
   endif()
   if(NOT files)
+    # A pattern cut at its first '#' by CMake's comment rule leaves a prefix of the frame files.
+    file(GLOB cut LIST_DIRECTORIES false "${sequence}[0-9]*")
+    if(cut)
+      message(FATAL_ERROR "firelook_add_package: SEQUENCE ${sequence} names no file, but files start with it: "
+                          "an unquoted '#' starts a CMake comment, so quote the pattern, e.g. SEQUENCE \"fx/fire_####.vdb\"")
+    endif()
     message(FATAL_ERROR "firelook_add_package: ${sequence}: no VDB file found (a folder of .vdb files, "
-                        "a pattern such as fire_####.vdb, or one .vdb file)")
+                        "a pattern such as \"fire_####.vdb\" (quoted), or one .vdb file)")
   endif()
   list(SORT files)
   set(${out} "${files}" PARENT_SCOPE)
@@ -78,6 +89,16 @@ function(firelook_add_package name)
   get_filename_component(output "${ARG_OUTPUT}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_BINARY_DIR}")
   get_filename_component(output_dir "${output}" DIRECTORY)
   _firelook_sequence_files(inputs "${sequence}")
+  # The set of frames as a file that changes only when the set does: a dependency of the package.
+  set(file_list "${CMAKE_CURRENT_BINARY_DIR}/firelook/${name}.files")
+  string(REPLACE ";" "\n" listed "${inputs}\n")
+  set(previous "")
+  if(EXISTS "${file_list}")
+    file(READ "${file_list}" previous)
+  endif()
+  if(NOT previous STREQUAL listed)
+    file(WRITE "${file_list}" "${listed}")
+  endif()
 
   set(bake bake "${sequence}" -o "${output}")
   foreach(file_option CONFIG SCENE)
@@ -104,7 +125,7 @@ function(firelook_add_package name)
     COMMAND "${CMAKE_COMMAND}" -E make_directory "${output_dir}"
     COMMAND FireLook::firelook ${bake}
     # The executable both as a target and as a file, so a new firelook rebakes.
-    DEPENDS ${inputs} FireLook::firelook "$<TARGET_FILE:FireLook::firelook>"
+    DEPENDS ${inputs} "${file_list}" FireLook::firelook "$<TARGET_FILE:FireLook::firelook>"
     COMMENT "Baking FireLook package ${name} (${output})"
     VERBATIM ${pool})
   set(all ALL)

@@ -108,8 +108,11 @@ void ReferenceWorker::run(ReferenceRequest request) {
         s.sequence_path = request.sequence_override.empty() ? resolveSequencePath(recorded, request.package_path)
                                                              : request.sequence_override;
         if (s.sequence_path.empty())
-            throw std::runtime_error("the sequence recorded in " + request.package_path + " (\"" + recorded +
-                                     "\") was not found; give its path (QA panel or --sequence)");
+            throw std::runtime_error(
+                recorded.empty()
+                    ? request.package_path + " records its sequence by content, not by path; give its path (QA panel or --sequence)"
+                    : "the sequence recorded in " + request.package_path + " (\"" + recorded +
+                          "\") was not found; give its path (QA panel or --sequence)");
         s.status = "loading frame " + std::to_string(request.frame) + " of " + s.sequence_path;
         publish(s);
         const reference::ReferenceInputs in = reference::referenceInputs(

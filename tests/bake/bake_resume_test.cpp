@@ -1,6 +1,6 @@
 // Resuming an interrupted bake (bake/bake_checkpoint.h, BakeRunOptions::resume): the frames it
-// finished are reused only when baked with the same settings from the same, undamaged files, and
-// the package ends with the bytes of a bake that was never stopped.
+// finished are reused only when baked with the same settings from the same sequence (every frame's
+// file unchanged) and undamaged, and the package ends with the bytes of a bake that was never stopped.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -45,7 +45,7 @@ TEST(BakeResume, ACancelledBakeResumesToTheSameBytes) {
     bakePackage(FIRELOOK_SAMPLE_DIR, dir / "whole.firelook", threeFrames(), "test");
     const auto out = dir / "out.firelook";
     bakeTwoOfThree(FIRELOOK_SAMPLE_DIR, out, threeFrames());
-    const BakeReport report = bakePackage(FIRELOOK_SAMPLE_DIR, out, threeFrames(), "test", {}, {}, {.resume = true});
+    const BakeReport report = bakePackage(FIRELOOK_SAMPLE_DIR, out, threeFrames(), "test", {}, {}, {.resume = true, .plan = {}, .plan_file = {}});
     EXPECT_EQ(resumedFlags(report), (std::vector<bool>{true, true, false}));
     EXPECT_GT(report.frames[0].rank, 0) << "a resumed frame reports what its bake recorded";
     EXPECT_TRUE(fileBytes(out) == fileBytes(dir / "whole.firelook"));
@@ -68,7 +68,7 @@ TEST(BakeResume, FramesBakedWithOtherSettingsAreBakedAgain) {
     std::vector<std::string> notices;
     const BakeReport report = bakePackage(
         FIRELOOK_SAMPLE_DIR, out, threeFrames(2), "test", {}, [&](const std::string& line) { notices.push_back(line); },
-        {.resume = true});
+        {.resume = true, .plan = {}, .plan_file = {}});
     EXPECT_EQ(resumedFlags(report), (std::vector<bool>{false, false, false}));
     ASSERT_EQ(notices.size(), 2u);
     EXPECT_NE(notices[0].find("frame 1: not resumed"), std::string::npos) << notices[0];
@@ -83,32 +83,40 @@ TEST(BakeResume, AFrameWhoseFileChangedOrWhosePartIsDamagedIsBakedAgain) {
     for (const char* name : {"fluid_data_0001.vdb", "fluid_data_0002.vdb", "fluid_data_0003.vdb"})
         std::filesystem::copy_file(std::filesystem::path(FIRELOOK_SAMPLE_DIR) / name, dir / "seq" / name);
     const std::string sequence = (dir / "seq").string();
-    // A camera of its own: the default one frames the whole sequence, so a changed frame that moves
-    // the sequence's bounds changes every frame (a kept part is then refused for its camera).
     BakeConfig c = threeFrames();
-    c.scene.camera = std::array<double, 7>{1.0, -3.0, 1.0, 1.0, 1.0, 0.9, 40.0};
     const auto out = dir / "out.firelook";
     bakeTwoOfThree(sequence, out, c);
-    // Frame 2 becomes frame 1's file: another file, but the sequence's densest frame (3) still sets
-    // the default look's derived extinction (bake/axis_derivation.h), so only frame 2 is refused.
-    std::filesystem::copy_file(std::filesystem::path(FIRELOOK_SAMPLE_DIR) / "fluid_data_0001.vdb",
-                               dir / "seq" / "fluid_data_0002.vdb", std::filesystem::copy_options::overwrite_existing);
     {  // A part damaged on disk: one byte of its first section flipped.
         std::fstream part(BakeCheckpoint::folderFor(out) / "frame_1.firelook", std::ios::in | std::ios::out | std::ios::binary);
         part.seekp(200);
         part.put('\x7f');
     }
     std::vector<std::string> notices;
-    const BakeReport report = bakePackage(
-        sequence, out, c, "test", {}, [&](const std::string& line) { notices.push_back(line); }, {.resume = true});
+    const auto note = [&](const std::string& line) { notices.push_back(line); };
+    BakeReport report = bakePackage(sequence, out, c, "test", {}, note, {.resume = true, .plan = {}, .plan_file = {}});
+    EXPECT_EQ(resumedFlags(report), (std::vector<bool>{false, true, false}));
+    ASSERT_EQ(notices.size(), 1u);
+    EXPECT_NE(notices[0].find("frame 1: not resumed"), std::string::npos) << notices[0];
+    EXPECT_NE(notices[0].find("checksum"), std::string::npos) << notices[0];
+    bakePackage(sequence, dir / "whole.firelook", c, "test");
+    EXPECT_TRUE(fileBytes(out) == fileBytes(dir / "whole.firelook"));
+
+    // Frame 2 becomes frame 1's file: the sequence is another (provenance.sequence_xxh3_64), so no
+    // kept frame is reused, and the reason given is the most specific one.
+    std::filesystem::remove(out);
+    bakeTwoOfThree(sequence, out, c);
+    std::filesystem::copy_file(std::filesystem::path(FIRELOOK_SAMPLE_DIR) / "fluid_data_0001.vdb",
+                               dir / "seq" / "fluid_data_0002.vdb", std::filesystem::copy_options::overwrite_existing);
+    notices.clear();
+    report = bakePackage(sequence, out, c, "test", {}, note, {.resume = true, .plan = {}, .plan_file = {}});
     EXPECT_EQ(resumedFlags(report), (std::vector<bool>{false, false, false}));
     ASSERT_EQ(notices.size(), 2u);
     EXPECT_NE(notices[0].find("frame 1: not resumed"), std::string::npos) << notices[0];
-    EXPECT_NE(notices[0].find("checksum"), std::string::npos) << notices[0];
+    EXPECT_NE(notices[0].find("another frame of the sequence has changed since"), std::string::npos) << notices[0];
     EXPECT_NE(notices[1].find("frame 2: not resumed"), std::string::npos) << notices[1];
     EXPECT_NE(notices[1].find("input file has changed"), std::string::npos) << notices[1];
-    bakePackage(sequence, dir / "whole.firelook", c, "test");
-    EXPECT_TRUE(fileBytes(out) == fileBytes(dir / "whole.firelook"));
+    bakePackage(sequence, dir / "whole2.firelook", c, "test");
+    EXPECT_TRUE(fileBytes(out) == fileBytes(dir / "whole2.firelook"));
 }
 
 }  // namespace

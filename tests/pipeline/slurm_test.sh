@@ -8,7 +8,12 @@
 #  3. a firelook whose merge fails: exit 1, the merge's failure reported, no package;
 #  4. without --wait (returns once submitted), frames 4,6 (a hole), --keep-parts, --work,
 #     --sbatch, a relative config and 5 shards for 2 frames: capped to 2, the merged package equal
-#     to a one-shot bake of 4,6, the parts kept, the sbatch argument on the job.
+#     to a one-shot bake of 4,6, the parts kept, the sbatch argument on the job;
+#  5. a failed run resumed: frames 4-7 in 2 shards, with a firelook that breaks frame 7's file
+#     after the plan job read it, so shard 2 keeps frame 6 and fails at 7 (shard 1, whose frames
+#     are fine, succeeds); with the file restored, --resume submits shard 2 alone (plan and part 1
+#     kept, their logs untouched), which reuses frame 6: one frame baked in the resumed run, and
+#     the package cmp-equal to a one-shot bake.
 # Exit 77 (ctest: skipped) with the reason where Slurm is missing or the test is not root.
 #   slurm_test.sh FIRELOOK_EXE
 set -euo pipefail
@@ -80,6 +85,7 @@ for k in 1 2 3; do
   [[ ! -e "$shards_dir/part_$k.firelook" ]] || fail "part $k left behind after the merge"
 done
 [[ -s "$shards_dir/logs/merge.log" ]] || fail "no merge log"
+[[ -s "$shards_dir/logs/plan.log" ]] || fail "no plan log"
 [[ "$(sed -n 2p "$shards_dir/shards.txt")" == 5 ]] || fail "shard 2 should bake frame 5: $(cat "$shards_dir/shards.txt")"
 echo "slurm: 3 shards merged into the same bytes as the one-shot bake"
 
@@ -147,6 +153,52 @@ cmp "$work/out/later.firelook" "$work/out/oneshot46.firelook" || fail "the submi
 for k in 1 2; do [[ -s "$work/parts/part_$k.firelook" ]] || fail "--keep-parts: part $k missing"; done
 scontrol show job "$merge_id" | grep -q "Comment=firelook-test" || fail "--sbatch arguments did not reach the merge job"
 echo "slurm: submitted without --wait, parts kept, same bytes"
+
+# A failed run, resumed.
+mkdir -p "$work/seq4"
+cp "$root"/samples/data/explosion/fluid_data_000{4,5,6,7}.vdb "$work/seq4/"
+cp "$work/seq4/fluid_data_0007.vdb" "$work/frame7.vdb"
+cat > "$work/breaking_firelook.sh" <<EOF
+#!/usr/bin/env bash
+if [[ -f "$work/break" && " \$* " == *" --frames 6-7 "* ]]; then
+  echo "breaking_firelook: frame 7 broken after the plan read it" >&2
+  echo "not a VDB file" > "$work/seq4/fluid_data_0007.vdb"
+fi
+exec "$firelook" "\$@"
+EOF
+chmod +x "$work/breaking_firelook.sh"
+touch "$work/break"
+resume_args=("$work/seq4" -o "$work/out/resumed.firelook" --shards 2 --firelook "$work/breaking_firelook.sh" --wait "${bake_opts[@]}")
+set +e
+run_bounded "$root/scripts/slurm/bake_array.sh" "${resume_args[@]}" > "$work/broken.log" 2>&1
+rc=$?
+set -e
+cat "$work/broken.log"
+((rc == 1)) || fail "bake_array.sh with a frame broken in shard 2 exited $rc, expected 1"
+grep -q "shard 2 (frames 6-7) failed" "$work/broken.log" || fail "the failed shard is not named"
+resumed_dir="$work/out/resumed.firelook.shards"
+[[ -s "$resumed_dir/part_1.firelook" ]] || fail "shard 1, whose frames are fine, did not write its part"
+[[ -s "$resumed_dir/part_2.firelook.partial/frame_6.firelook" ]] || fail "shard 2 did not keep frame 6"
+cp "$resumed_dir/logs/shard_1.log" "$work/shard_1.before"
+cp "$resumed_dir/logs/plan.log" "$work/plan.before"
+rm "$work/break"
+cp "$work/frame7.vdb" "$work/seq4/fluid_data_0007.vdb"
+run_bounded "$root/scripts/slurm/bake_array.sh" "${resume_args[@]}" --resume > "$work/resumed.log" 2>&1 ||
+  { cat "$work/resumed.log"; fail "bake_array.sh --resume failed"; }
+cat "$work/resumed.log"
+grep -q "resuming: plan kept, 1 of 2 parts kept, job [0-9]* (array 2)" "$work/resumed.log" ||
+  fail "--resume did not submit shard 2 alone"
+cmp -s "$resumed_dir/logs/shard_1.log" "$work/shard_1.before" || fail "--resume ran shard 1 again"
+cmp -s "$resumed_dir/logs/plan.log" "$work/plan.before" || fail "--resume made the plan again"
+# The bake's table in shard 2's log: one row per frame, "(resumed)" on a frame reused.
+rows=$(grep -cE '^ +[67] +[0-9]+ ' "$resumed_dir/logs/shard_2.log" || true)
+reused=$(grep -E '^ +[67] +[0-9]+ ' "$resumed_dir/logs/shard_2.log" | grep -c '(resumed)' || true)
+[[ "$rows" == 2 && "$reused" == 1 ]] || fail "shard 2 resumed: $rows frames, $reused reused; expected 2 and 1"
+grep -qE '^ +6 .*\(resumed\)' "$resumed_dir/logs/shard_2.log" || fail "frame 6 was not the frame reused"
+"$firelook" bake "$work/seq4" -o "$work/out/oneshot4.firelook" "${bake_opts[@]}" > "$work/oneshot.log" 2>&1 ||
+  { cat "$work/oneshot.log"; fail "the one-shot bake of frames 4-7 failed"; }
+cmp "$work/out/resumed.firelook" "$work/out/oneshot4.firelook" || fail "the resumed bake differs from the one-shot bake"
+echo "slurm: a failed run resumed: 1 of 4 frames baked again, same bytes"
 slurm_cluster_stop
 leftovers=$(slurm_cluster_leftovers "$work/cluster")
 [[ -z "$leftovers" ]] || fail "daemons still running after the cluster was stopped: $leftovers"
