@@ -1,4 +1,4 @@
-// firelook export-cycles PACKAGE --frame F [--look L.json] [--sequence SEQ] -o scene.py
+// firelook export-cycles PACKAGE --frame F --sequence SEQ [--look L.json] -o scene.py
 // A Python script that, run as `blender -b --python scene.py -- --spp N -o OUT.exr`, renders the
 // frame with the look in Cycles: the exact model as a volume shader (cycles_scene.h).
 #include <cstdio>
@@ -25,16 +25,15 @@ void registerExportCyclesCommand(CLI::App& app) {
     cmd->add_option("--look", args->look, "look file (default: the look recorded in the package)")
         ->check(CLI::ExistingFile);
     cmd->add_option("--sequence", args->sequence,
-                    "the sequence the package was baked from (default: the path its provenance records)");
+                    "the sequence the package was baked from (a package knows its frames by content, not path)")
+        ->required();
     addOutputOption(*cmd, args->out, "output script (.py)")->required();
     cmd->callback([args] {
         const basis::BasisReader package = basis::BasisReader::open(args->package);
         const Look look = args->look.empty()
                               ? parseLook(package.description().default_look_json, args->package + " (default look)")
                               : loadLook(args->look);
-        const std::optional<std::string> sequence =
-            args->sequence.empty() ? std::nullopt : std::optional<std::string>(args->sequence);
-        writeFileAtomically(args->out, cyclesSceneScript(package, args->package, args->frame, look, sequence));
+        writeFileAtomically(args->out, cyclesSceneScript(package, args->package, args->frame, look, args->sequence));
         std::printf("wrote %s: frame %d; run: blender -b --factory-startup --python %s -- --spp N -o OUT.exr\n",
                     args->out.c_str(), args->frame, args->out.c_str());
     });

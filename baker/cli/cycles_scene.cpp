@@ -18,26 +18,17 @@ namespace {
 
 using nlohmann::ordered_json;
 
-// The frame's file: in `sequence` when given, else in the sequence the provenance records.
-std::filesystem::path frameFile(const ordered_json& provenance, const std::string& package_name, int frame,
-                                const std::optional<std::string>& sequence) {
-    std::string source;
-    if (sequence) {
-        source = *sequence;
-    } else {
-        if (!provenance.contains("sequence") || !provenance.at("sequence").is_string())
-            throw Error(ErrorCode::NotFound, package_name + ": its provenance records no sequence (pass --sequence)");
-        source = provenance.at("sequence").get<std::string>();
-    }
-    for (const vdb::FrameFile& f : vdb::findFrameFiles(source))
+// The frame's file in `sequence`.
+std::filesystem::path frameFile(const std::string& sequence, int frame) {
+    for (const vdb::FrameFile& f : vdb::findFrameFiles(sequence))
         if (f.number == frame) return std::filesystem::absolute(f.path);
-    throw Error(ErrorCode::NotFound, source + ": the sequence has no frame " + std::to_string(frame));
+    throw Error(ErrorCode::NotFound, sequence + ": the sequence has no frame " + std::to_string(frame));
 }
 
 }  // namespace
 
 std::string cyclesSceneScript(const basis::BasisReader& package, const std::string& package_name, int frame,
-                              const Look& look, const std::optional<std::string>& sequence,
+                              const Look& look, const std::string& sequence,
                               const CyclesSettings& settings) {
     const basis::BakeDescription& d = package.description();
     if (!d.findFrame(frame))
@@ -47,13 +38,12 @@ std::string cyclesSceneScript(const basis::BasisReader& package, const std::stri
     const std::optional<world::PackageCamera> camera = world::readPackageCamera(package.metadataJson(), package_name);
     if (!camera) throw Error(ErrorCode::NotFound, package_name + ": the package records no camera");
     const vdb::ReadOptions read = reference::provenanceReadOptions(package.metadataJson(), package_name);
-    const ordered_json provenance = ordered_json::parse(package.metadataJson()).at("provenance");
 
     ordered_json scene;
     scene["firelook_version"] = kToolVersion;
     scene["package"] = package_name;
     scene["frame"] = frame;
-    scene["vdb"] = frameFile(provenance, package_name, frame, sequence).string();
+    scene["vdb"] = frameFile(sequence, frame).string();
     scene["read"] = {{"density_grid", read.density_grid},
                      {"temperature_grid", read.temperature_grid},
                      {"density_scale", read.density_scale},

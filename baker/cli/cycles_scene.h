@@ -3,7 +3,6 @@
 // scene's numbers as a JSON document followed by cycles_scene.py, which reads only them.
 #pragma once
 
-#include <optional>
 #include <string>
 
 #include "basis/basis_package.h"
@@ -22,12 +21,12 @@ struct CyclesSettings {
 // The script for frame `frame` of `package` with `look`: the package's camera, the lights the look
 // turns on (irradiance not zero), its bins, RBF width and emission rule, the look's extinction,
 // albedo and non-negative emission fit, and the frame's VDB file read as the package's provenance
-// says (its grids, the temperature and density mappings). The file is found in `sequence` when
-// given, else in the sequence the provenance records. Throws firelook::Error naming the package,
+// says (its grids, the temperature and density mappings). The file is found in `sequence` (a
+// package knows its sequence by content, not path: docs/cli.md). Throws firelook::Error naming the package,
 // the look or the file: a frame the package does not hold, a look whose albedo differs from the
 // package's, a package without a camera or provenance, a frame the sequence lacks.
 std::string cyclesSceneScript(const basis::BasisReader& package, const std::string& package_name, int frame,
-                              const Look& look, const std::optional<std::string>& sequence,
+                              const Look& look, const std::string& sequence,
                               const CyclesSettings& settings = {});
 
 }  // namespace firelook::cli

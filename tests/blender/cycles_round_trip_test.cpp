@@ -100,7 +100,8 @@ TEST(CyclesRoundTrip, ThreeLooksOnTwoFramesMatchTheReference) {
                 look_flag = " --look " + std::string(look.name) + ".json";
             }
             const CommandResult exported = runFirelook(
-                dir, "export-cycles pkg.firelook --frame " + std::to_string(frame) + look_flag + " -o " + tag + ".py");
+                dir, "export-cycles pkg.firelook --frame " + std::to_string(frame) + " --sequence '" + kSample + "'" +
+                                     look_flag + " -o " + tag + ".py");
             ASSERT_EQ(exported.exit_code, 0) << exported.err;
             for (const int seed : {1, 2}) {
                 const CommandResult cycles = runIn(dir, "blender -b --factory-startup --python " + tag + ".py -- --spp " +

@@ -1,6 +1,6 @@
 // `firelook export-cycles` (docs/cli.md): the script it writes holds the package's camera, the
 // lights the look turns on, the bins, the look's extinction, albedo and non-negative emission fit,
-// and the frame's VDB file as the provenance reads it. Rendering it in Blender is
+// and the frame's VDB file from the sequence named. Rendering it in Blender is
 // tests/blender/cycles_round_trip_test.cpp; these checks need no Blender.
 #include <gtest/gtest.h>
 
@@ -47,7 +47,8 @@ TEST_F(ExportCycles, ScriptHoldsThePackagesSceneAndTheLook) {
     std::ofstream(*dir_ / "look.json") << R"({"format": "firelook-look", "version": 1, "temperature_threshold": 1.6,
         "smoke_extinction": 5, "flame_extinction": 2, "albedo": 0.7,
         "emission": {"bins": [[0,0,0], [0,0,0], [1,0.5,0.1], [4,2,1]]}, "light_irradiance": [[1, 2, 3]]})";
-    const CommandResult r = runFirelook(*dir_, "export-cycles pkg.firelook --frame 2 --look look.json -o scene.py");
+    const CommandResult r = runFirelook(
+        *dir_, "export-cycles pkg.firelook --frame 2 --sequence '" + kSample + "' --look look.json -o scene.py");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const json scene = sceneOf(*dir_ / "scene.py");
     ASSERT_TRUE(scene.is_object()) << readFile(*dir_ / "scene.py").substr(0, 400);
@@ -80,7 +81,8 @@ TEST_F(ExportCycles, LightsTheLookTurnsOffAreLeftOut) {
     std::ofstream(*dir_ / "dark.json") << R"({"format": "firelook-look", "version": 1, "temperature_threshold": 1.6,
         "smoke_extinction": 5, "flame_extinction": 2, "albedo": 0.7,
         "emission": {"preset": "blackbody"}, "light_irradiance": [[0, 0, 0]]})";
-    const CommandResult r = runFirelook(*dir_, "export-cycles pkg.firelook --frame 1 --look dark.json -o dark.py");
+    const CommandResult r = runFirelook(*dir_, "export-cycles pkg.firelook --frame 1 --sequence '" + kSample +
+                                                   "' --look dark.json -o dark.py");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(sceneOf(*dir_ / "dark.py").at("lights").empty());
 }
@@ -101,8 +103,9 @@ TEST_F(ExportCycles, RefusesWithOneLineAndWritesNothing) {
     const struct {
         std::string args, mentions;
     } cases[] = {
-        {"--frame 3", "holds no frame 3"},
-        {"--frame 1 --look albedo.json", "albedo"},
+        {"--frame 3 --sequence '" + kSample + "'", "holds no frame 3"},
+        {"--frame 1 --sequence '" + kSample + "' --look albedo.json", "albedo"},
+        {"--frame 1", "--sequence is required"},
         {"--frame 1 --sequence '" + (std::filesystem::path(kSample) / "fluid_data_0002.vdb").string() + "'",
          "has no frame 1"},
     };

@@ -51,7 +51,7 @@ std::vector<OutputCase> cases() {
         {{"repack ../pkg.firelook", "out.firelook"}, {"-o", "--out", "--output"}},
         {{"bench '" + kSample + "' --package ../pkg.firelook --frames 1 --looks 1 --spp 1 --alpha-rays 1", "out.json"},
          {"-o", "--out", "--json"}},
-        {{"export-cycles ../pkg.firelook --frame 1", "out.py"}, {"-o", "--out"}},
+        {{"export-cycles ../pkg.firelook --frame 1 --sequence '" + kSample + "'", "out.py"}, {"-o", "--out"}},
     };
     std::vector<OutputCase> out;
     for (const auto& [writer, flags] : writers)
