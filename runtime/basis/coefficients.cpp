@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 
 #include "basis/parameter_grid.h"
 #include "basis/simd.h"
@@ -17,7 +18,7 @@ constexpr int kRankBlock = 128;
 // The blended columns M of a stretch of this many values per instance stay on the stack (in L1).
 constexpr int kStage = 512;
 // Grid points a batch can bring in (a batch that would bring more is split: a grid of at most
-// this many points never is). With the above, a batch's stack is about 45 KiB.
+// this many points never is). With the above, a batch's stack is about 50 KiB.
 constexpr int kMaxUnion = 2 * GridWeights::kMaxPoints;
 
 // The grid points of a batch (increasing) and each instance's weight at each (0 where it has none).
@@ -27,29 +28,53 @@ struct BatchPoints {
     float weight[kMaxUnion][kBatch];
 };
 
-// interpolationWeights lists its points in increasing index (the axes' samples in order, k_f
-// fastest); merged here, a point two instances share once. False when they bring more than
-// kMaxUnion points.
-bool batchPoints(const BasisModel& model, std::span<const CoefficientJob> jobs, BatchPoints& out) {
-    GridWeights grid[kBatch];
-    int at[kBatch] = {};
-    for (size_t i = 0; i < jobs.size(); ++i) grid[i] = interpolationWeights(model.axes, jobs[i].extinction);
-    out.count = 0;
-    for (;;) {
-        int next = -1;
-        for (size_t i = 0; i < jobs.size(); ++i)
-            if (at[i] < grid[i].count && (next < 0 || grid[i].point[at[i]] < next)) next = grid[i].point[at[i]];
-        if (next < 0) break;
-        if (out.count == kMaxUnion) return false;
-        out.point[out.count] = next;
-        for (int i = 0; i < kBatch; ++i) {
-            float w = 0.0f;
-            if (static_cast<size_t>(i) < jobs.size() && at[i] < grid[i].count && grid[i].point[at[i]] == next)
-                w = grid[i].weight[at[i]++];
-            out.weight[out.count][i] = w;
+// Samples of one axis a batch's box may span.
+constexpr int kMaxExtent = 16;
+
+// The grid points with a weight for any of the NB instances: each instance's weights per axis
+// (axisWeights), laid out over the box of samples the batch spans, and at each point of the box
+// the product interpolationWeights takes (pointWeight), so the same float; the points in
+// increasing index (k_f fastest), those where every weight is 0 left out. False when the box spans
+// more than kMaxExtent samples of an axis or kMaxUnion points.
+template <int NB>
+bool batchPoints(const ParameterAxes& axes, std::span<const CoefficientJob> jobs, BatchPoints& out) {
+    const std::vector<double>* samples[3] = {&axes.temperature_threshold, &axes.smoke_extinction,
+                                             &axes.flame_extinction};
+    AxisWeights w[NB][3];
+    int lo[3], extent[3];
+    for (int axis = 0; axis < 3; ++axis) {
+        int low = std::numeric_limits<int>::max(), high = -1;
+        for (int i = 0; i < NB; ++i) {
+            const ExtinctionParams& e = jobs[i].extinction;
+            const double x = axis == 0 ? e.temperature_threshold : axis == 1 ? e.smoke_extinction : e.flame_extinction;
+            w[i][axis] = axisWeights(*samples[axis], x);
+            for (int k = 0; k < w[i][axis].count; ++k) {
+                low = std::min(low, w[i][axis].index[k]);
+                high = std::max(high, w[i][axis].index[k]);
+            }
         }
-        ++out.count;
+        lo[axis] = low;
+        extent[axis] = high - low + 1;
+        if (extent[axis] > kMaxExtent) return false;
     }
+    if (extent[0] * extent[1] * extent[2] > kMaxUnion) return false;
+    double dense[3][kMaxExtent][NB] = {};
+    for (int axis = 0; axis < 3; ++axis)
+        for (int i = 0; i < NB; ++i)
+            for (int k = 0; k < w[i][axis].count; ++k) dense[axis][w[i][axis].index[k] - lo[axis]][i] = w[i][axis].weight[k];
+    out.count = 0;
+    for (int a = 0; a < extent[0]; ++a)
+        for (int b = 0; b < extent[1]; ++b)
+            for (int c = 0; c < extent[2]; ++c) {
+                float* weight = out.weight[out.count];
+                bool any = false;
+                for (int i = 0; i < NB; ++i) {
+                    weight[i] = pointWeight(dense[0][a][i], dense[1][b][i], dense[2][c][i]);
+                    any |= weight[i] != 0.0f;
+                }
+                if (!any) continue;
+                out.point[out.count++] = axes.pointIndex(lo[0] + a, lo[1] + b, lo[2] + c);
+            }
     return true;
 }
 
@@ -93,21 +118,27 @@ FIRELOOK_ALWAYS_INLINE void blendColumns(const float* svt, size_t row_length, in
     }
 }
 
-// sums[c][k - k0] += weight x m[k - k_first] for k in [k_first, k_end), W lanes at a time (the last
-// vector's lanes past k_end keep their value).
+// sums[channel][t] += weight[channel] x m[t] for t < count, W lanes at a time (the last vector's
+// lanes past count keep their value); a channel of weight 0 is left alone (as a term it would add
+// nothing, or NaN from an infinite value).
 template <typename V>
-FIRELOOK_ALWAYS_INLINE void addColumn(float* sums, const float* m, int count, float weight) {
+FIRELOOK_ALWAYS_INLINE void addColumn(float* const sums[3], const float* m, int count, const Rgb& weight) {
     constexpr int W = sizeof(V) / sizeof(float);
     using I = decltype(V{} < V{});
     I lane;
     for (int l = 0; l < W; ++l) lane[l] = l;
     for (int t = 0; t < count; t += W) {
-        V x, z;
+        V x;
         simd::load(x, m + t);
-        simd::load(z, sums + t);
-        const V added = z + weight * x;
-        z = lane < count - t ? added : z;
-        simd::store(sums + t, z);
+        const I keep = lane < count - t;
+        for (int channel = 0; channel < 3; ++channel) {
+            if (weight[channel] == 0.0f) continue;
+            V z;
+            simd::load(z, sums[channel] + t);
+            const V added = z + weight[channel] * x;
+            z = keep ? added : z;
+            simd::store(sums[channel] + t, z);
+        }
     }
 }
 
@@ -123,18 +154,15 @@ FIRELOOK_ALWAYS_INLINE void batchKernel(const BasisModel& model, const float* sv
     const size_t row_length = static_cast<size_t>(per_point) * rank;
     BatchPoints b;
     if constexpr (NB > 1) {
-        if (!batchPoints(model, jobs, b)) {  // one by one (each instance's bits do not change)
+        if (!batchPoints<NB>(model.axes, jobs, b)) {  // one by one (each instance's bits do not change)
             for (size_t i = 0; i < jobs.size(); ++i) batchKernel<V, Regs, 1>(model, svt, rank, jobs.subspan(i, 1));
             return;
         }
     } else {
-        batchPoints(model, jobs, b);  // one instance: at most GridWeights::kMaxPoints
+        batchPoints<1>(model.axes, jobs, b);  // one instance: at most 5 samples an axis
     }
     alignas(64) float m[kBatch][kStage + 128];
     alignas(64) float sums[kBatch][3][kRankBlock + 16];
-    const auto weight = [&](size_t i, int c, int channel) {
-        return c < bins ? jobs[i].rbf[c][channel] : jobs[i].lights[c - bins][channel];
-    };
     for (int k0 = 0; k0 < rank; k0 += kRankBlock) {
         const int n = std::min(kRankBlock, rank - k0);
         for (int i = 0; i < NB; ++i)
@@ -153,12 +181,10 @@ FIRELOOK_ALWAYS_INLINE void batchKernel(const BasisModel& model, const float* sv
                 int c = static_cast<int>(stage / rank), k = static_cast<int>(stage % rank);
                 for (size_t e = stage; e < stage + count; ++c, k = 0) {
                     const int length = static_cast<int>(std::min<size_t>(stage + count - e, rank - k));
-                    for (size_t i = 0; i < jobs.size(); ++i)
-                        for (int channel = 0; channel < 3; ++channel) {
-                            const float w = weight(i, c, channel);
-                            if (w != 0.0f)  // as a term 0 would add nothing (or NaN from an infinite value)
-                                addColumn<V>(sums[i][channel] + (k - k0), m[i] + (e - stage), length, w);
-                        }
+                    for (int i = 0; i < NB; ++i) {
+                        float* const at[3] = {sums[i][0] + (k - k0), sums[i][1] + (k - k0), sums[i][2] + (k - k0)};
+                        addColumn<V>(at, m[i] + (e - stage), length, c < bins ? jobs[i].rbf[c] : jobs[i].lights[c - bins]);
+                    }
                     e += static_cast<size_t>(length);
                 }
             }

@@ -10,7 +10,9 @@
 // third of the multiply-adds of weighting every column by its three channel weights) and lets
 // instances that show the same frame share every read of S V^T (coefficientBatch): a batch gives
 // each instance the bits a batch of one gives it (a point another instance brings in adds an exact
-// 0). Against the exact sum a value is within (points + columns + 2) eps sum |term| (first order).
+// 0, S V^T being finite as the decoder gives it). Against the exact sum a value is within
+// (points + columns + 2) eps sum |term| (first order); a column whose weight is 0 in a channel
+// adds nothing to it.
 #pragma once
 
 #include <span>
@@ -30,8 +32,9 @@ struct CoefficientJob {
 
 // svt: columns x rank, column-major (svt[column * rank + k]; FrameFactors::svt or
 // ResidentFrame::svt), columns = model.columnCount(); every job's z from that one matrix.
-// Single-threaded; AVX-512 or AVX2 + FMA where the CPU has them (the same bits either way; the
-// baseline build rounds each product apart from its sum).
+// Up to 8 instances at a time share each read (AVX-512; 4 with AVX2 + FMA, the same bits either
+// way; the baseline build rounds each product apart from its sum). Single-threaded; about 50 KiB
+// of stack.
 void coefficientBatch(const BasisModel& model, const float* svt, int rank, std::span<const CoefficientJob> jobs);
 
 // coefficientBatch for one look. Any matrix stored that way works: B^T of a pixels x columns basis

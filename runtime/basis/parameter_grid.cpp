@@ -11,25 +11,17 @@
 namespace firelook::basis {
 namespace {
 
-// The grid samples one axis blends and their weights: up to 5 (two cubics blended), 1 at a sample,
-// outside the range or on a collapsed axis.
-struct AxisWeights {
-    static constexpr int kMaxSamples = 5;
-    int count = 0;
-    std::array<int, kMaxSamples> index{};
-    std::array<double, kMaxSamples> weight{};
-    // Adds w to sample i's weight; a sample both polynomials use appears once.
-    void add(int i, double w) {
-        int at = 0;
-        while (at < count && index[at] != i) ++at;
-        if (at == count) {
-            index[count] = i;
-            weight[count] = 0.0;
-            ++count;
-        }
-        weight[at] += w;
+// Adds w to sample i's weight; a sample both polynomials use appears once.
+void addWeight(AxisWeights& out, int i, double w) {
+    int at = 0;
+    while (at < out.count && out.index[at] != i) ++at;
+    if (at == out.count) {
+        out.index[out.count] = i;
+        out.weight[out.count] = 0.0;
+        ++out.count;
     }
-};
+    out.weight[at] += w;
+}
 
 // The Lagrange weights of the polynomial through samples first .. first + degree, evaluated at x,
 // scaled by s.
@@ -38,7 +30,7 @@ void addPolynomial(const std::vector<double>& x_s, int first, int degree, double
         double w = s;
         for (int j = first; j <= first + degree; ++j)
             if (j != i) w *= (x - x_s[j]) / (x_s[i] - x_s[j]);
-        out.add(i, w);
+        addWeight(out, i, w);
     }
 }
 
@@ -55,6 +47,21 @@ SampleBracket sampleBracket(const std::vector<double>& samples, double x) {
 
 namespace {
 
+void validateAxis(const std::vector<double>& samples, const char* name) {
+    if (samples.empty())
+        throw Error(ErrorCode::InvalidArgument, std::string("parameter axis ") + name + " has no samples");
+    for (size_t i = 0; i < samples.size(); ++i) {
+        if (!std::isfinite(samples[i]))
+            throw Error(ErrorCode::InvalidArgument,
+                        std::string("parameter axis ") + name + " has a non-finite sample");
+        if (i > 0 && !(samples[i] > samples[i - 1]))
+            throw Error(ErrorCode::InvalidArgument,
+                        std::string("parameter axis ") + name + " is not strictly increasing");
+    }
+}
+
+}  // namespace
+
 // Between samples i and i+1 at t = (x - x_i) / (x_(i+1) - x_i): the cubic through i-2 .. i+1 blended
 // linearly into the cubic through i-1 .. i+2, each window moved inside the axis where it would leave
 // it (so an end interval, and every interval of a 4-sample axis, has one cubic). Interval i's right
@@ -69,7 +76,7 @@ AxisWeights axisWeights(const std::vector<double>& x_s, double x) {
     AxisWeights out;
     const SampleBracket bracket = sampleBracket(x_s, x);
     if (bracket.lower == bracket.upper) {  // on or beyond an end
-        out.add(bracket.lower, 1.0);
+        addWeight(out, bracket.lower, 1.0);
         return out;
     }
     const int last = static_cast<int>(x_s.size()) - 1;
@@ -86,21 +93,6 @@ AxisWeights axisWeights(const std::vector<double>& x_s, double x) {
     }
     return out;
 }
-
-void validateAxis(const std::vector<double>& samples, const char* name) {
-    if (samples.empty())
-        throw Error(ErrorCode::InvalidArgument, std::string("parameter axis ") + name + " has no samples");
-    for (size_t i = 0; i < samples.size(); ++i) {
-        if (!std::isfinite(samples[i]))
-            throw Error(ErrorCode::InvalidArgument,
-                        std::string("parameter axis ") + name + " has a non-finite sample");
-        if (i > 0 && !(samples[i] > samples[i - 1]))
-            throw Error(ErrorCode::InvalidArgument,
-                        std::string("parameter axis ") + name + " is not strictly increasing");
-    }
-}
-
-}  // namespace
 
 ExtinctionParams ParameterAxes::point(int index) const {
     const int n_kf = static_cast<int>(flame_extinction.size());
@@ -119,7 +111,7 @@ GridWeights interpolationWeights(const ParameterAxes& axes, const ExtinctionPara
     for (int a = 0; a < tc.count; ++a)
         for (int b = 0; b < ks.count; ++b)
             for (int c = 0; c < kf.count; ++c) {
-                const float w = static_cast<float>(tc.weight[a] * ks.weight[b] * kf.weight[c]);
+                const float w = pointWeight(tc.weight[a], ks.weight[b], kf.weight[c]);
                 if (w == 0.0f) continue;
                 out.point[out.count] = axes.pointIndex(tc.index[a], ks.index[b], kf.index[c]);
                 out.weight[out.count] = w;
