@@ -11,26 +11,19 @@
 namespace firelook::basis {
 namespace {
 
-// Adds w to sample i's weight; a sample both polynomials use appears once.
-void addWeight(AxisWeights& out, int i, double w) {
-    int at = 0;
-    while (at < out.count && out.index[at] != i) ++at;
-    if (at == out.count) {
-        out.index[out.count] = i;
-        out.weight[out.count] = 0.0;
-        ++out.count;
-    }
-    out.weight[at] += w;
-}
-
-// The Lagrange weights of the polynomial through samples first .. first + degree, evaluated at x,
-// scaled by s.
-void addPolynomial(const std::vector<double>& x_s, int first, int degree, double x, double s, AxisWeights& out) {
+// weight[i - first] += the Lagrange weight of sample i in the polynomial through samples first ..
+// first + degree, evaluated at x, scaled by s: one division a weight (the world computes these for
+// every instance every update), and at a sample exactly s there and 0 elsewhere (the numerator and
+// denominator are then the same products).
+void addPolynomial(const std::vector<double>& x_s, int first, int degree, double x, double s, double* weight) {
     for (int i = first; i <= first + degree; ++i) {
-        double w = s;
+        double num = 1.0, den = 1.0;
         for (int j = first; j <= first + degree; ++j)
-            if (j != i) w *= (x - x_s[j]) / (x_s[i] - x_s[j]);
-        addWeight(out, i, w);
+            if (j != i) {
+                num *= x - x_s[j];
+                den *= x_s[i] - x_s[j];
+            }
+        weight[i - first] += s * (num / den);
     }
 }
 
@@ -76,7 +69,9 @@ AxisWeights axisWeights(const std::vector<double>& x_s, double x) {
     AxisWeights out;
     const SampleBracket bracket = sampleBracket(x_s, x);
     if (bracket.lower == bracket.upper) {  // on or beyond an end
-        addWeight(out, bracket.lower, 1.0);
+        out.count = 1;
+        out.index[0] = bracket.lower;
+        out.weight[0] = 1.0;
         return out;
     }
     const int last = static_cast<int>(x_s.size()) - 1;
@@ -84,12 +79,18 @@ AxisWeights axisWeights(const std::vector<double>& x_s, double x) {
     const double t = bracket.t;
     const int degree = std::min(3, last);
     const auto window = [&](int first) { return std::clamp(first, 0, last - degree); };
+    // The windows are the same or one apart (`window` is monotone): samples left .. right + degree.
     const int left = window(lower - (degree - 1)), right = window(lower - (degree - 2));
+    out.count = right - left + degree + 1;
+    for (int k = 0; k < out.count; ++k) {
+        out.index[k] = left + k;
+        out.weight[k] = 0.0;
+    }
     if (left == right) {
-        addPolynomial(x_s, left, degree, x, 1.0, out);
+        addPolynomial(x_s, left, degree, x, 1.0, out.weight.data());
     } else {
-        addPolynomial(x_s, left, degree, x, 1.0 - t, out);
-        addPolynomial(x_s, right, degree, x, t, out);
+        addPolynomial(x_s, left, degree, x, 1.0 - t, out.weight.data());
+        addPolynomial(x_s, right, degree, x, t, out.weight.data() + (right - left));
     }
     return out;
 }

@@ -267,6 +267,15 @@ bool validRuns(std::span<const PixelRun> runs, size_t pixels) {
     return true;
 }
 
+// rgba[i] = (0, 0, 0, alpha[i]) for i < count: pixels whose W row is 0.
+FIRELOOK_KERNEL_CLONES
+void clearRgb(const float* alpha, size_t count, float* rgba) {
+    for (size_t i = 0; i < count; ++i) {
+        const v4f out = {0.0f, 0.0f, 0.0f, alpha[i]};
+        simd::store(rgba + i * 4, out);
+    }
+}
+
 void checkResident(const BakeDescription& description, const ResidentFrame& f) {
     const size_t pixels = static_cast<size_t>(std::max(f.pixels, 0));
     const size_t planes = 1 + description.alpha_thresholds.size();
@@ -315,13 +324,7 @@ void reconstructImage(const BakeDescription& description, const ResidentFrame& f
         const size_t count = std::min(kSpan, pixels - first);
         residentAlphaSpan(alpha_plan, frame, first, count, alpha);
         size_t done = first;
-        const auto clear = [&](size_t end) {
-            for (; done < end; ++done) {
-                float* out = rgba_out.data() + done * 4;
-                out[0] = out[1] = out[2] = 0.0f;
-                out[3] = alpha[done - first];
-            }
-        };
+        const auto clear = [&](size_t end) { clearRgb(alpha + (done - first), end - done, rgba_out.data() + done * 4); done = end; };
         forRunPieces(frame.u_runs, first, count, [&](size_t a, size_t n) {
             clear(a);
             residentRgbSpan(frame, zblocks[0], zblocks[1], zblocks[2], a, n, alpha + (a - first), rgba_out.data());

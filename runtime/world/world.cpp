@@ -302,8 +302,21 @@ void World::update(double dt) {
         frame_slot_[i] = p.slotAtOrBelow(frame_position_[i]);
     }
 
-    // 2. Keyframes, then a run-time light over the six-way lights.
+    // 2. Keyframes, then a run-time light over the six-way lights. Each instance's keys live in
+    // their own allocations, so with many instances they come from far caches: their records are
+    // prefetched two strides ahead and the coefficients they point at one stride ahead.
+    constexpr size_t kAhead = 8;
     for (size_t i = 0; i < n; ++i) {
+        if (i + 2 * kAhead < n)
+            for (const Keyframe& k : std::span(keys_[i + 2 * kAhead]).first(std::min<size_t>(2, keys_[i + 2 * kAhead].size()))) {
+                __builtin_prefetch(&k.frame);
+                __builtin_prefetch(&k.look.rbf);
+            }
+        if (i + kAhead < n)
+            for (const Keyframe& k : std::span(keys_[i + kAhead]).first(std::min<size_t>(2, keys_[i + kAhead].size()))) {
+                __builtin_prefetch(k.look.rbf.data());
+                __builtin_prefetch(k.look.lights.data());
+            }
         sampleKeyframes(keys_[i], frame_position_[i], extinction_[i], rbf_.data() + i * bins_stride_,
                         lights_.data() + i * lights_stride_);
         if (run_time_light_[i])
