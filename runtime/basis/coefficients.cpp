@@ -17,8 +17,9 @@ constexpr int kBatch = 8;
 constexpr int kRankBlock = 128;
 // The blended columns M of a stretch of this many values per instance stay on the stack (in L1).
 constexpr int kStage = 512;
-// Grid points a batch can bring in (a batch that would bring more is split: a grid of at most
-// this many points never is). With the above, a batch's stack is about 50 KiB.
+// Grid points a batch can bring in: a batch whose box of samples (batchPoints) holds more, or spans
+// more than kMaxExtent samples of an axis, is done one instance at a time (a grid of at most this
+// many points never is). With the above, a batch's stack is about 50 KiB.
 constexpr int kMaxUnion = 2 * GridWeights::kMaxPoints;
 
 // The grid points of a batch (increasing) and each instance's weight at each (0 where it has none).
@@ -197,7 +198,7 @@ FIRELOOK_ALWAYS_INLINE void batchKernel(const BasisModel& model, const float* sv
     }
 }
 
-// Every job, NB at a time (the rest in one smaller batch).
+// Every job, NB at a time (the rest in batches of half as many, and so on).
 template <typename V, int Regs, int NB>
 FIRELOOK_ALWAYS_INLINE void batches(const BasisModel& model, const float* svt, int rank,
                                     std::span<const CoefficientJob> jobs) {
