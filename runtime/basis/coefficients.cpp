@@ -83,23 +83,23 @@ bool batchPoints(const ParameterAxes& axes, std::span<const CoefficientJob> jobs
 // weight[i] x row[j] for j in [first, first + count) of every point's row (its columns x rank
 // values, `row_length`), written to m[i][j - first]. Each instance's sum runs over the points in
 // order, one fused multiply-add each; from +0 a sum never becomes -0, so an instance's weight 0
-// adds nothing at all. Reads up to NV W - 1 values past a row's stretch: from the next row, or,
-// on the last row of S V^T, from a zero-padded copy.
+// adds nothing at all. Reads up to NV W - 1 values past a row's stretch: from the rows after it,
+// or, where that would pass the end of S V^T, from a zero-padded copy.
 template <typename V, int NV, int NB>
 FIRELOOK_ALWAYS_INLINE void blendColumns(const float* svt, size_t row_length, int points, const BatchPoints& b,
                                          size_t first, size_t count, float (*m)[kStage + 128]) {
     constexpr int W = sizeof(V) / sizeof(float);
     constexpr int kStep = NV * W;
+    const size_t total = static_cast<size_t>(points) * row_length;
     for (size_t j = 0; j < count; j += kStep) {
         V acc[NB][NV] = {};
-        const bool at_end = first + j + kStep > row_length;
         for (int u = 0; u < b.count; ++u) {
-            const float* src = svt + static_cast<size_t>(b.point[u]) * row_length + first + j;
+            const size_t at = static_cast<size_t>(b.point[u]) * row_length + first + j;
+            const float* src = svt + at;
             float padded[kStep];
-            if (at_end && b.point[u] == points - 1) {
-                const size_t left = row_length - (first + j);
+            if (at + kStep > total) {
                 std::memset(padded, 0, sizeof padded);
-                std::memcpy(padded, src, left * sizeof(float));
+                std::memcpy(padded, src, (total - at) * sizeof(float));
                 src = padded;
             }
             V s[NV];
