@@ -455,6 +455,13 @@ void accumulateThresholds(int16_t* items, size_t count, int stride, int threshol
 
 int roundUp8(int n) { return (n + 7) / 8 * 8; }
 
+// The runs a payload codes, as the resident form keeps them (pixel counts fit int32:
+// bake_description.cpp bounds them).
+void keepRuns(const std::vector<Run>& runs, std::pmr::vector<PixelRun>& out) {
+    out.clear();
+    for (const Run& run : runs) out.push_back({static_cast<int32_t>(run.first), static_cast<int32_t>(run.count)});
+}
+
 }  // namespace
 
 namespace {
@@ -491,6 +498,7 @@ void decodeResidentU(const BakeDescription& description, int frame, int rank, st
         if (!std::isfinite(f.u_scale[k])) in.fail("has a non-finite scale");
     }
     const std::vector<Run> runs = version >= 3 ? getRuns(in, pixels) : allItems(pixels);
+    keepRuns(runs, f.u_runs);
     std::optional<ReorderedCodes> reordered;
     CodeStream codes;
     if (version == 1) {
@@ -581,6 +589,7 @@ void decodeResidentDepths(const BakeDescription& description, int frame, int ran
             if (flags[p]) f.detailed_pixels.push_back(static_cast<int32_t>(p));
         }
     }
+    keepRuns(runs, f.depth_runs);
     const size_t detailed_rays = f.detailed_pixels.size() * static_cast<size_t>(f.samples);
     std::optional<ReorderedCodes> reordered;
     CodeStream codes;

@@ -11,34 +11,19 @@
 namespace firelook::basis {
 namespace {
 
-// The grid samples one axis blends and their weights: up to 5 (two cubics blended), 1 at a sample,
-// outside the range or on a collapsed axis.
-struct AxisWeights {
-    static constexpr int kMaxSamples = 5;
-    int count = 0;
-    std::array<int, kMaxSamples> index{};
-    std::array<double, kMaxSamples> weight{};
-    // Adds w to sample i's weight; a sample both polynomials use appears once.
-    void add(int i, double w) {
-        int at = 0;
-        while (at < count && index[at] != i) ++at;
-        if (at == count) {
-            index[count] = i;
-            weight[count] = 0.0;
-            ++count;
-        }
-        weight[at] += w;
-    }
-};
-
-// The Lagrange weights of the polynomial through samples first .. first + degree, evaluated at x,
-// scaled by s.
-void addPolynomial(const std::vector<double>& x_s, int first, int degree, double x, double s, AxisWeights& out) {
+// weight[i - first] += the Lagrange weight of sample i in the polynomial through samples first ..
+// first + degree, evaluated at x, scaled by s: one division a weight (the world computes these for
+// every instance every update), and at a sample exactly s there and 0 elsewhere (the numerator and
+// denominator are then the same products).
+void addPolynomial(const std::vector<double>& x_s, int first, int degree, double x, double s, double* weight) {
     for (int i = first; i <= first + degree; ++i) {
-        double w = s;
+        double num = 1.0, den = 1.0;
         for (int j = first; j <= first + degree; ++j)
-            if (j != i) w *= (x - x_s[j]) / (x_s[i] - x_s[j]);
-        out.add(i, w);
+            if (j != i) {
+                num *= x - x_s[j];
+                den *= x_s[i] - x_s[j];
+            }
+        weight[i - first] += s * (num / den);
     }
 }
 
@@ -55,38 +40,6 @@ SampleBracket sampleBracket(const std::vector<double>& samples, double x) {
 
 namespace {
 
-// Between samples i and i+1 at t = (x - x_i) / (x_(i+1) - x_i): the cubic through i-2 .. i+1 blended
-// linearly into the cubic through i-1 .. i+2, each window moved inside the axis where it would leave
-// it (so an end interval, and every interval of a 4-sample axis, has one cubic). Interval i's right
-// window is interval i+1's left one, so the blend is continuous in value and slope across samples;
-// it is exact at the samples and for any cubic in the parameter (so for thin smoke, whose image is
-// linear in k). On fewer samples the degree drops: parabolas on 3 (blended the same way), a line on
-// 2. Cubic rather than parabolic because the image of smoke saturates as k grows and the parabolas
-// through doubling samples overshoot it by up to 0.5 % in the last interval, the cubic by 0.14 %
-// (docs/model.md, "Between grid points"). Weights can be negative, so a blend can undershoot zero:
-// the runtime clamps the reconstructed colour and the fire lights' intensities at zero.
-AxisWeights axisWeights(const std::vector<double>& x_s, double x) {
-    AxisWeights out;
-    const SampleBracket bracket = sampleBracket(x_s, x);
-    if (bracket.lower == bracket.upper) {  // on or beyond an end
-        out.add(bracket.lower, 1.0);
-        return out;
-    }
-    const int last = static_cast<int>(x_s.size()) - 1;
-    const int lower = bracket.lower;
-    const double t = bracket.t;
-    const int degree = std::min(3, last);
-    const auto window = [&](int first) { return std::clamp(first, 0, last - degree); };
-    const int left = window(lower - (degree - 1)), right = window(lower - (degree - 2));
-    if (left == right) {
-        addPolynomial(x_s, left, degree, x, 1.0, out);
-    } else {
-        addPolynomial(x_s, left, degree, x, 1.0 - t, out);
-        addPolynomial(x_s, right, degree, x, t, out);
-    }
-    return out;
-}
-
 void validateAxis(const std::vector<double>& samples, const char* name) {
     if (samples.empty())
         throw Error(ErrorCode::InvalidArgument, std::string("parameter axis ") + name + " has no samples");
@@ -101,6 +54,46 @@ void validateAxis(const std::vector<double>& samples, const char* name) {
 }
 
 }  // namespace
+
+// Between samples i and i+1 at t = (x - x_i) / (x_(i+1) - x_i): the cubic through i-2 .. i+1 blended
+// linearly into the cubic through i-1 .. i+2, each window moved inside the axis where it would leave
+// it (so an end interval, and every interval of a 4-sample axis, has one cubic). Interval i's right
+// window is interval i+1's left one, so the blend is continuous in value and slope across samples;
+// it is exact at the samples and for any cubic in the parameter (so for thin smoke, whose image is
+// linear in k). On fewer samples the degree drops: parabolas on 3 (blended the same way), a line on
+// 2. Cubic rather than parabolic because the image of smoke saturates as k grows and the parabolas
+// through doubling samples overshoot it by up to 0.5 % in the last interval, the cubic by 0.14 %
+// (docs/model.md, "Between grid points"). Weights can be negative, so a blend can undershoot zero:
+// the runtime clamps the reconstructed colour and the fire lights' intensities at zero.
+AxisWeights axisWeights(const std::vector<double>& x_s, double x) {
+    AxisWeights out;
+    const SampleBracket bracket = sampleBracket(x_s, x);
+    if (bracket.lower == bracket.upper) {  // on or beyond an end
+        out.count = 1;
+        out.index[0] = bracket.lower;
+        out.weight[0] = 1.0;
+        return out;
+    }
+    const int last = static_cast<int>(x_s.size()) - 1;
+    const int lower = bracket.lower;
+    const double t = bracket.t;
+    const int degree = std::min(3, last);
+    const auto window = [&](int first) { return std::clamp(first, 0, last - degree); };
+    // The windows are the same or one apart (`window` is monotone): samples left .. right + degree.
+    const int left = window(lower - (degree - 1)), right = window(lower - (degree - 2));
+    out.count = right - left + degree + 1;
+    for (int k = 0; k < out.count; ++k) {
+        out.index[k] = left + k;
+        out.weight[k] = 0.0;
+    }
+    if (left == right) {
+        addPolynomial(x_s, left, degree, x, 1.0, out.weight.data());
+    } else {
+        addPolynomial(x_s, left, degree, x, 1.0 - t, out.weight.data());
+        addPolynomial(x_s, right, degree, x, t, out.weight.data() + (right - left));
+    }
+    return out;
+}
 
 ExtinctionParams ParameterAxes::point(int index) const {
     const int n_kf = static_cast<int>(flame_extinction.size());
@@ -119,7 +112,7 @@ GridWeights interpolationWeights(const ParameterAxes& axes, const ExtinctionPara
     for (int a = 0; a < tc.count; ++a)
         for (int b = 0; b < ks.count; ++b)
             for (int c = 0; c < kf.count; ++c) {
-                const float w = static_cast<float>(tc.weight[a] * ks.weight[b] * kf.weight[c]);
+                const float w = pointWeight(tc.weight[a], ks.weight[b], kf.weight[c]);
                 if (w == 0.0f) continue;
                 out.point[out.count] = axes.pointIndex(tc.index[a], ks.index[b], kf.index[c]);
                 out.weight[out.count] = w;

@@ -41,6 +41,21 @@ struct SampleBracket {
 };
 SampleBracket sampleBracket(const std::vector<double>& samples, double x);
 
+// One axis's part of the blend: the samples it uses (increasing, consecutive) and their weights.
+struct AxisWeights {
+    static constexpr int kMaxSamples = 5;
+    int count = 0;
+    std::array<int, kMaxSamples> index;
+    std::array<double, kMaxSamples> weight;
+};
+// The weights on one axis (samples strictly increasing, not empty) at x: up to 5 (two cubics
+// blended), 1 at a sample, outside the range or on a collapsed axis. The rule is
+// interpolationWeights' below.
+AxisWeights axisWeights(const std::vector<double>& samples, double x);
+// A grid point's weight from its three axes' weights: what interpolationWeights lists (there
+// points of weight 0 are left out).
+inline float pointWeight(double tc, double ks, double kf) { return static_cast<float>(tc * ks * kf); }
+
 // Up to 5 x 5 x 5 grid points with non-zero weight; weights sum to 1 and can be negative.
 struct GridWeights {
     static constexpr int kMaxPoints = 125;

@@ -7,6 +7,10 @@
 #include <limits>
 #include <stdexcept>
 
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
+
 #include "basis/coefficients.h"
 #include "basis/parameter_grid.h"
 #include "basis/simd.h"
@@ -177,11 +181,24 @@ FIRELOOK_ALWAYS_INLINE float detailedAlpha(const ResidentAlphaPlan& plan, const 
     return std::clamp(total / static_cast<float>(samples), 0.0f, 1.0f);
 }
 
-// alpha_out[i] = alpha of pixel first + i, for i < count (alpha_out has room for count rounded up
-// to 8). Elementwise in the lanes, so a pixel gets the same bits wherever its block starts
-// (pixelAlpha evaluates it alone).
+// Calls f(piece_first, piece_count) for each piece of [first, first + count) inside `runs`, in order.
+template <typename F>
+FIRELOOK_ALWAYS_INLINE void forRunPieces(std::span<const PixelRun> runs, size_t first, size_t count, F&& f) {
+    const size_t end = first + count;
+    auto it = std::upper_bound(runs.begin(), runs.end(), first,
+                               [](size_t p, const PixelRun& r) { return p < static_cast<size_t>(r.first) + r.count; });
+    for (; it != runs.end() && static_cast<size_t>(it->first) < end; ++it) {
+        const size_t a = std::max(first, static_cast<size_t>(it->first));
+        const size_t b = std::min(end, static_cast<size_t>(it->first) + it->count);
+        f(a, b - a);
+    }
+}
+
+// alpha_out[i] = alpha of the mean ray of pixel first + i, for i < count (alpha_out has room for
+// count rounded up to 8; the lanes past count get 0). Elementwise in the lanes, so a pixel gets the
+// same bits wherever its block starts (pixelAlpha evaluates it alone).
 FIRELOOK_KERNEL_CLONES
-void residentAlphaSpan(const ResidentAlphaPlan& plan, const ResidentFrame& f, size_t first, size_t count,
+void residentMeanAlpha(const ResidentAlphaPlan& plan, const ResidentFrame& f, size_t first, size_t count,
                        float* alpha_out) {
     const int stride = f.depth_stride;
     for (size_t block = 0; block < count; block += 8) {
@@ -193,6 +210,19 @@ void residentAlphaSpan(const ResidentAlphaPlan& plan, const ResidentFrame& f, si
         finishAlpha(alpha, sum, 1.0f);
         store8(alpha_out + block, alpha);
     }
+}
+
+// alpha_out[i] = alpha of pixel first + i, for i < count (alpha_out has room for count + 8): the
+// mean rays of depth_runs (every other mean ray has codes 0, tau 0, alpha exactly 0, written
+// as such), then each detailed pixel's rays.
+FIRELOOK_KERNEL_CLONES
+void residentAlphaSpan(const ResidentAlphaPlan& plan, const ResidentFrame& f, size_t first, size_t count,
+                       float* alpha_out) {
+    std::fill(alpha_out, alpha_out + count, 0.0f);
+    forRunPieces(f.depth_runs, first, count, [&](size_t a, size_t n) {
+        residentMeanAlpha(plan, f, a, n, alpha_out + (a - first));
+    });
+    const int stride = f.depth_stride;
     const auto begin = std::lower_bound(f.detailed_pixels.begin(), f.detailed_pixels.end(), static_cast<int32_t>(first));
     for (auto it = begin; it != f.detailed_pixels.end() && static_cast<size_t>(*it) < first + count; ++it) {
         const size_t index = static_cast<size_t>(it - f.detailed_pixels.begin());
@@ -202,7 +232,7 @@ void residentAlphaSpan(const ResidentAlphaPlan& plan, const ResidentFrame& f, si
 }
 
 // rgb = U z for pixels [first, first + count): each pixel's W row (int16, rank_stride) against z
-// scaled by u_scale, de-interleaved into 8-lane blocks per channel.
+// scaled by u_scale, de-interleaved into 8-lane blocks per channel; alpha[i] is pixel first + i's.
 FIRELOOK_KERNEL_CLONES
 void residentRgbSpan(const ResidentFrame& f, const v8f* zr, const v8f* zg, const v8f* zb, size_t first, size_t count,
                      const float* alpha, float* rgba) {
@@ -229,6 +259,35 @@ void residentRgbSpan(const ResidentFrame& f, const v8f* zr, const v8f* zg, const
     }
 }
 
+// Increasing, disjoint, non-empty runs inside the image.
+bool validRuns(std::span<const PixelRun> runs, size_t pixels) {
+    size_t end = 0;
+    for (const PixelRun& r : runs) {
+        if (r.first < 0 || r.count <= 0 || static_cast<size_t>(r.first) < end ||
+            static_cast<size_t>(r.count) > pixels - std::min(pixels, static_cast<size_t>(r.first)))
+            return false;
+        end = static_cast<size_t>(r.first) + r.count;
+    }
+    return true;
+}
+
+// rgba[i] = (0, 0, 0, alpha[i]) for i < count: pixels whose W row is 0, most of a frame. Streamed
+// past the caches where the image is 16-byte aligned (x86): the image is written, not read, here,
+// and a read for ownership of each line would double the memory traffic of these pixels.
+FIRELOOK_KERNEL_CLONES
+void clearRgb(const float* alpha, size_t count, float* rgba) {
+#if defined(__SSE__)
+    if (reinterpret_cast<uintptr_t>(rgba) % 16 == 0) {
+        for (size_t i = 0; i < count; ++i) _mm_stream_ps(rgba + i * 4, _mm_set_ps(alpha[i], 0.0f, 0.0f, 0.0f));
+        return;
+    }
+#endif
+    for (size_t i = 0; i < count; ++i) {
+        const v4f out = {0.0f, 0.0f, 0.0f, alpha[i]};
+        simd::store(rgba + i * 4, out);
+    }
+}
+
 void checkResident(const BakeDescription& description, const ResidentFrame& f) {
     const size_t pixels = static_cast<size_t>(std::max(f.pixels, 0));
     const size_t planes = 1 + description.alpha_thresholds.size();
@@ -237,7 +296,7 @@ void checkResident(const BakeDescription& description, const ResidentFrame& f) {
         f.depth_stride < static_cast<int>(planes) || f.mean_depth.size() < pixels * f.depth_stride ||
         f.samples != description.footprint_samples ||
         f.detailed_depth.size() < f.detailed_pixels.size() * f.samples * f.depth_stride || !f.depth_table ||
-        f.depth_table->depth.empty())
+        f.depth_table->depth.empty() || !validRuns(f.u_runs, pixels) || !validRuns(f.depth_runs, pixels))
         throw Error(ErrorCode::InvalidArgument, "resident frame does not match the description");
 }
 
@@ -247,7 +306,7 @@ float pixelAlpha(const BakeDescription& description, const ResidentFrame& frame,
                  const ExtinctionParams& extinction) {
     checkResident(description, frame);
     if (pixel < 0 || pixel >= frame.pixels) throw Error(ErrorCode::InvalidArgument, "pixel out of range");
-    float alpha[8];
+    float alpha[9];
     residentAlphaSpan(residentAlphaPlan(description, frame, extinction), frame, static_cast<size_t>(pixel), 1, alpha);
     return alpha[0];
 }
@@ -270,13 +329,24 @@ void reconstructImage(const BakeDescription& description, const ResidentFrame& f
     for (int c = 0; c < 3; ++c)
         for (int k = 0; k < blocks * 8; ++k)
             zblocks[c][k / 8][k % 8] = k < rank ? z[static_cast<size_t>(k) * 3 + c] * frame.u_scale[k] : 0.0f;
+    // Pixels outside u_runs have W = 0: radiance 0, written without reading them.
     constexpr size_t kSpan = 4096;
-    float alpha[kSpan];
+    float alpha[kSpan + 8];
     for (size_t first = 0; first < pixels; first += kSpan) {
         const size_t count = std::min(kSpan, pixels - first);
         residentAlphaSpan(alpha_plan, frame, first, count, alpha);
-        residentRgbSpan(frame, zblocks[0], zblocks[1], zblocks[2], first, count, alpha, rgba_out.data());
+        size_t done = first;
+        const auto clear = [&](size_t end) { clearRgb(alpha + (done - first), end - done, rgba_out.data() + done * 4); done = end; };
+        forRunPieces(frame.u_runs, first, count, [&](size_t a, size_t n) {
+            clear(a);
+            residentRgbSpan(frame, zblocks[0], zblocks[1], zblocks[2], a, n, alpha + (a - first), rgba_out.data());
+            done = a + n;
+        });
+        clear(first + count);
     }
+#if defined(__SSE__)
+    _mm_sfence();  // the streamed stores (clearRgb) are seen before anything after this call
+#endif
 }
 
 }  // namespace firelook::basis

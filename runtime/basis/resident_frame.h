@@ -15,6 +15,10 @@
 //           part; so O_b = D[q], O_a(j) = D[q] - 2 D[q - e_j]. Pixels whose footprint rays differ
 //           ("detailed", sorted) also keep every ray: footprint_samples rows of depth_stride each.
 //           A pixel's alpha is that of its mean ray, or the mean of its rays' alphas if detailed.
+//   Runs:   the pixels whose W row (u_runs) or mean-ray codes (depth_runs) are not all 0, as runs in
+//           scan order: what the payload codes (version 3 on; every pixel before). Every other row
+//           is 0, so such a pixel's radiance (or, unless detailed, its alpha) is 0 for any look and
+//           reconstructImage does not read it: a frame costs what its fire covers.
 //
 // Memory comes from a std::pmr::memory_resource (the world routes it to the host's allocator).
 #pragma once
@@ -36,10 +40,16 @@ struct DepthTable {
     static std::shared_ptr<const DepthTable> build(double step, double k_lo, double k_hi);
 };
 
+// Pixels [first, first + count) in scan order.
+struct PixelRun {
+    int32_t first = 0;
+    int32_t count = 0;
+};
+
 struct ResidentFrame {
     explicit ResidentFrame(std::pmr::memory_resource* memory = std::pmr::get_default_resource())
         : w(memory), u_scale(memory), svt(memory), mean_depth(memory), detailed_pixels(memory),
-          detailed_depth(memory) {}
+          detailed_depth(memory), u_runs(memory), depth_runs(memory) {}
 
     int frame = 0;
     int pixels = 0;
@@ -55,13 +65,16 @@ struct ResidentFrame {
     std::pmr::vector<int16_t> mean_depth;   // pixels x depth_stride
     std::pmr::vector<int32_t> detailed_pixels;  // increasing
     std::pmr::vector<int16_t> detailed_depth;   // detailed x samples x depth_stride
+    std::pmr::vector<PixelRun> u_runs;          // increasing, disjoint, non-empty
+    std::pmr::vector<PixelRun> depth_runs;
     std::shared_ptr<const DepthTable> depth_table;
 
     // Bytes held, by capacity (the depth table is shared and counted once by its owner).
     size_t bytes() const {
         return w.capacity() * sizeof(int16_t) + u_scale.capacity() * sizeof(float) + svt.capacity() * sizeof(float) +
                mean_depth.capacity() * sizeof(int16_t) + detailed_pixels.capacity() * sizeof(int32_t) +
-               detailed_depth.capacity() * sizeof(int16_t);
+               detailed_depth.capacity() * sizeof(int16_t) +
+               (u_runs.capacity() + depth_runs.capacity()) * sizeof(PixelRun);
     }
 };
 

@@ -20,6 +20,7 @@ namespace firelook::basis::simd {
 
 typedef float v4f __attribute__((vector_size(16)));
 typedef float v8f __attribute__((vector_size(32)));
+typedef float v16f __attribute__((vector_size(64)));  // one AVX-512 register
 typedef int32_t v8i __attribute__((vector_size(32)));
 typedef int16_t v8s __attribute__((vector_size(16)));   // 8 int16 lanes (one SSE register)
 typedef uint16_t v8u __attribute__((vector_size(16)));

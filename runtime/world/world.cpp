@@ -122,6 +122,12 @@ InstanceHandle World::create(std::shared_ptr<const Package> package) {
     z_.resize(z_.size() + z_stride_);
     image_.emplace_back(HostAllocator<float>(&settings_.memory));
     flare_.emplace_back(HostAllocator<float>(&settings_.memory));
+    shown_entry_.push_back(nullptr);
+    jobs_.emplace_back();
+    // Every frame of the world's packages may be shown at once.
+    size_t frames = 0;
+    for (const PackageEntry& p : packages_) frames += p.frames.size();
+    shown_frames_.reserve(frames);
     return handle;
 }
 
@@ -154,6 +160,8 @@ void World::destroy(InstanceHandle h) {
     move_last_strided(lights_, lights_stride_);
     move_last_strided(z_, z_stride_);
     move_last(dense_to_handle_);
+    shown_entry_.pop_back();  // scratch: refilled by every update
+    jobs_.pop_back();
     if (dense != last) handles_.get(dense_to_handle_[dense]) = dense;
     handles_.take(h);
 }
@@ -294,8 +302,21 @@ void World::update(double dt) {
         frame_slot_[i] = p.slotAtOrBelow(frame_position_[i]);
     }
 
-    // 2. Keyframes, then a run-time light over the six-way lights.
+    // 2. Keyframes, then a run-time light over the six-way lights. Each instance's keys live in
+    // their own allocations, so with many instances they come from far caches: their records are
+    // prefetched two strides ahead and the coefficients they point at one stride ahead.
+    constexpr size_t kAhead = 8;
     for (size_t i = 0; i < n; ++i) {
+        if (i + 2 * kAhead < n)
+            for (const Keyframe& k : std::span(keys_[i + 2 * kAhead]).first(std::min<size_t>(2, keys_[i + 2 * kAhead].size()))) {
+                __builtin_prefetch(&k.frame);
+                __builtin_prefetch(&k.look.rbf);
+            }
+        if (i + kAhead < n)
+            for (const Keyframe& k : std::span(keys_[i + kAhead]).first(std::min<size_t>(2, keys_[i + kAhead].size()))) {
+                __builtin_prefetch(k.look.rbf.data());
+                __builtin_prefetch(k.look.lights.data());
+            }
         sampleKeyframes(keys_[i], frame_position_[i], extinction_[i], rbf_.data() + i * bins_stride_,
                         lights_.data() + i * lights_stride_);
         if (run_time_light_[i])
@@ -304,20 +325,39 @@ void World::update(double dt) {
                           packages_[package_index_[i]].package->description().six_way_first_light);
     }
 
-    // 3 + 4. Residency and coefficients.
+    // 3. Residency (a load may throw: nothing below has changed yet).
     for (size_t i = 0; i < n; ++i) {
-        const int pkg = package_index_[i];
-        const FrameEntry& e = residentFrame(pkg, frame_slot_[i]);
-        basis::coefficientKernel(packages_[pkg].package->description(), e.frame->svt.data(), e.frame->rank,
-                                 extinction_[i], rbf_.data() + i * bins_stride_, lights_.data() + i * lights_stride_,
-                                 z_.data() + i * z_stride_);
+        FrameEntry& e = residentFrame(package_index_[i], frame_slot_[i]);
+        e.package_index = package_index_[i];
+        shown_entry_[i] = &e;
+    }
+
+    // 4. Coefficients: the instances grouped by the frame they show (a counting sort), one batch each.
+    shown_frames_.clear();
+    for (size_t i = 0; i < n; ++i)
+        if (shown_entry_[i]->batch_size++ == 0) shown_frames_.push_back(shown_entry_[i]);
+    size_t start = 0;
+    for (FrameEntry* e : shown_frames_) {
+        e->batch_start = start;
+        start += e->batch_size;
+        e->batch_size = 0;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        FrameEntry& e = *shown_entry_[i];
+        jobs_[e.batch_start + e.batch_size++] = {extinction_[i], rbf_.data() + i * bins_stride_,
+                                                 lights_.data() + i * lights_stride_, z_.data() + i * z_stride_};
+    }
+    for (FrameEntry* e : shown_frames_) {
+        basis::coefficientBatch(packages_[e->package_index].package->description(), e->frame->svt.data(),
+                                e->frame->rank, std::span(jobs_.data() + e->batch_start, e->batch_size));
+        e->batch_size = 0;
     }
 
     // 5. CPU images.
     for (size_t i = 0; i < n; ++i) {
         if (!outputs_[i].image) continue;
         const int pkg = package_index_[i];
-        const FrameEntry& e = residentFrame(pkg, frame_slot_[i]);
+        const FrameEntry& e = *shown_entry_[i];
         basis::reconstructImage(packages_[pkg].package->description(), *e.frame,
                                 std::span<const float>(z_.data() + i * z_stride_, z_stride_), extinction_[i],
                                 image_[i]);
@@ -369,7 +409,9 @@ bool World::prefetch() {
 
 size_t World::instanceBytes() const {
     size_t bytes = (rbf_.capacity() + lights_.capacity()) * sizeof(Rgb) +
-                   (z_.capacity() + flare_scratch_.capacity()) * sizeof(float);
+                   (z_.capacity() + flare_scratch_.capacity()) * sizeof(float) +
+                   (shown_entry_.capacity() + shown_frames_.capacity()) * sizeof(FrameEntry*) +
+                   jobs_.capacity() * sizeof(basis::CoefficientJob);
     for (const HostVector<float>& image : image_) bytes += image.capacity() * sizeof(float);
     for (const HostVector<float>& flare : flare_) bytes += flare.capacity() * sizeof(float);
     return bytes;

@@ -7,7 +7,8 @@
 //   1. playback     advance time, pick the frame (see PlaybackSettings)
 //   2. keyframes    interpolate the look at the frame position (look_track.h)
 //   3. residency    make every frame in use resident in the frame cache
-//   4. coefficients z = S V^T w per instance (rank x 3)
+//   4. coefficients z = S V^T w per instance (rank x 3), the instances that show
+//                   one frame in one batch (basis/coefficients.h)
 //   5. image        optional CPU image = U z, alpha from the optical depths
 //   6. lens flare   optional, from the instance's image (lens_flare.h)
 // then the frame cache is trimmed to its budget, and the next frame of one
@@ -53,6 +54,7 @@
 #include <utility>
 #include <vector>
 
+#include "basis/coefficients.h"
 #include "basis/relight.h"
 #include "look/look.h"
 #include "world/handle_pool.h"
@@ -162,6 +164,9 @@ class World {
         std::unique_ptr<basis::ResidentFrame> frame;
         uint64_t last_used = 0;
         size_t bytes = 0;
+        // During update(): where the frame's instances start in jobs_ and how many there are.
+        size_t batch_start = 0, batch_size = 0;
+        int package_index = 0;
     };
     struct PackageEntry {
         std::shared_ptr<const Package> package;
@@ -203,6 +208,11 @@ class World {
     std::vector<HostVector<float>> image_;  // empty unless enabled
     std::vector<HostVector<float>> flare_;
     HostVector<float> flare_scratch_;  // lens flare scratch, largest image
+    // update()'s scratch: the frame each instance shows, the frames shown, and the instances'
+    // coefficient jobs grouped by frame (one batch per frame: basis/coefficients.h).
+    std::vector<FrameEntry*> shown_entry_;
+    std::vector<FrameEntry*> shown_frames_;
+    std::vector<basis::CoefficientJob> jobs_;
 
     basis::FrameReadBuffers read_buffers_;        // section reads, reused
     std::unique_ptr<basis::ResidentFrame> spare_;  // an evicted frame's buffers, for the next load

@@ -276,6 +276,7 @@ TEST(RecombineKernel, ResidentAlphaAccuracyOverTheWholeRange) {
     f.depth_stride = 8;
     f.mean_depth.assign(static_cast<size_t>(pixels) * f.depth_stride, 0);
     for (int q = 0; q < pixels; ++q) f.mean_depth[static_cast<size_t>(q) * f.depth_stride] = static_cast<int16_t>(q);
+    f.depth_runs.assign(1, PixelRun{0, pixels});
     f.depth_table = table;
     const ExtinctionParams e{1.0, 1.0, 1.0};  // a = 0, b = 1: tau = O_b
     std::vector<float> rgba(static_cast<size_t>(pixels) * 4);

@@ -13,6 +13,7 @@
 #include <glm/gtc/packing.hpp>
 #include <string>
 
+#include "../support/error_code.h"
 #include "basis/frame_codec.h"
 #include "basis/recombine.h"
 #include "codec_test_frames.h"
@@ -258,6 +259,65 @@ TEST(ResidentFrame, EmptyPixelsAreLeftOutAndDecodeToZero) {
                 for (int c = 0; c < 3; ++c) EXPECT_EQ(a[p * 4 + c], 0.0f) << radius << " " << p;
             }
         }
+    }
+}
+
+// The decoder keeps the payload's runs (resident_frame.h): every W row and mean ray outside them is
+// 0, and reconstructImage, which reads only the runs, writes the same bits as with runs of every
+// pixel (which reads everything), whatever the look: an empty pixel's radiance and alpha are
+// exactly 0. Runs that are not increasing, overlap or leave the image are refused.
+TEST(ResidentFrame, ReconstructionReadsOnlyTheRuns) {
+    const BakeDescription d = codecDescription(23, 17, 4);
+    const int rank = 9;
+    const ExtinctionParams looks[] = {{1.3f, 4.0f, 2.0f}, {1.05f, 16.0f, 0.5f}, {2.0f, 2.0f, 4.0f}};
+    for (const double radius : {0.0, 2.0, 6.5, 100.0}) {
+        const EncodedFrame encoded = encodeFrame(d, discFactors(d, rank, 3, radius), {});
+        const ResidentFrame f = decode(d, encoded, rank);
+        std::vector<uint8_t> in_u(size_t(d.pixelCount()), 0), in_depth(in_u.size(), 0);
+        for (const PixelRun& r : f.u_runs) std::fill_n(in_u.begin() + r.first, r.count, 1);
+        for (const PixelRun& r : f.depth_runs) std::fill_n(in_depth.begin() + r.first, r.count, 1);
+        size_t outside = 0;
+        for (int p = 0; p < d.pixelCount(); ++p) {
+            const auto w = f.w.begin() + ptrdiff_t(p) * f.rank_stride;
+            const auto q = f.mean_depth.begin() + ptrdiff_t(p) * f.depth_stride;
+            if (!in_u[p]) {
+                EXPECT_TRUE(std::all_of(w, w + f.rank_stride, [](int16_t v) { return v == 0; })) << radius << " " << p;
+            }
+            if (!in_depth[p]) {
+                EXPECT_TRUE(std::all_of(q, q + f.depth_stride, [](int16_t v) { return v == 0; })) << radius << " " << p;
+            }
+            outside += !in_u[p] && !in_depth[p];
+        }
+        if (radius == 6.5) {
+            EXPECT_GT(outside, size_t(d.pixelCount()) / 2);
+        }
+        ResidentFrame every = f;
+        every.u_runs.assign(1, PixelRun{0, d.pixelCount()});
+        every.depth_runs.assign(1, PixelRun{0, d.pixelCount()});
+        for (const ExtinctionParams& e : looks) {
+            const std::vector<float> z = residentCoefficients(d, f, e);
+            std::vector<float> a(size_t(d.pixelCount()) * 4, -1.0f), b(a.size(), -2.0f);
+            reconstructImage(d, f, z, e, a);
+            reconstructImage(d, every, z, e, b);
+            for (size_t i = 0; i < a.size(); ++i) ASSERT_EQ(a[i], b[i]) << radius << " value " << i;
+            for (int p = 0; p < d.pixelCount(); p += 5) {
+                ASSERT_EQ(pixelAlpha(d, f, p, e), a[size_t(p) * 4 + 3]) << radius << " " << p;
+            }
+        }
+    }
+    const ResidentFrame f = decode(d, encodeFrame(d, discFactors(d, rank, 3, 6.5), {}), rank);
+    const std::vector<float> z(size_t(rank) * 3, 1.0f);
+    std::vector<float> rgba(size_t(d.pixelCount()) * 4);
+    const ExtinctionParams e = looks[0];
+    for (const std::vector<PixelRun>& bad : {std::vector<PixelRun>{{5, 3}, {7, 2}}, std::vector<PixelRun>{{4, 0}},
+                                             std::vector<PixelRun>{{-1, 3}},
+                                             std::vector<PixelRun>{{d.pixelCount() - 2, 3}}}) {
+        ResidentFrame damaged = f;
+        damaged.u_runs.assign(bad.begin(), bad.end());
+        EXPECT_ERROR_CODE(ErrorCode::InvalidArgument, reconstructImage(d, damaged, z, e, rgba));
+        damaged = f;
+        damaged.depth_runs.assign(bad.begin(), bad.end());
+        EXPECT_ERROR_CODE(ErrorCode::InvalidArgument, reconstructImage(d, damaged, z, e, rgba));
     }
 }
 
