@@ -16,7 +16,7 @@
 // three; with stratified photons (baker/bake/photon_pass.cpp, 2026-12-06) -0.07%, -0.14%, +0.24%. Margin 0.4%: fails at half the bias the issue found; the reference's own noise of the mean
 // is 0.06-0.09% at 1024 spp here (printed; the test requires below 0.13%), so the margin is 3 or
 // more of its standard errors. CI time: about 165 s for the first three (2-core machine, release
-// build), about 60 s more for the fourth.
+// build), 8 s more for the fourth (a small frame).
 #include <gtest/gtest.h>
 
 #include <cstdio>
