@@ -217,8 +217,10 @@ FIRELOOK_ALWAYS_INLINE void batches(const BasisModel& model, const float* svt, i
 
 // Three builds by the CPU (function multi-versioning): AVX-512 on 16 lanes, AVX2 + FMA and the
 // baseline on 8; the sums are lane by lane, so the AVX builds give the same bits and the baseline
-// rounds each product apart.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+// rounds each product apart. Not under ThreadSanitizer: a multi-versioned function's resolver
+// runs while the loader relocates, before TSan's runtime is up, and the program crashes there
+// (plugin_api_thread_tests, SIGSEGV in _dl_relocate_object).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_THREAD__)
 __attribute__((target("default"))) void runBatches(const BasisModel& model, const float* svt, int rank,
                                                    std::span<const CoefficientJob> jobs) {
     batches<simd::v8f, 12, 4>(model, svt, rank, jobs);
