@@ -16,14 +16,21 @@ namespace {
 
 using namespace firelook::testing;
 
+// Runs `blender_command` with tests/blender/SCRIPT in a fresh folder holding the tiny bake's
+// bake.json; the script gets the add-on's folder, the sample and that folder.
+CommandResult runAddonScript(const TempDir& dir, const std::string& blender_command, const std::string& script) {
+    std::ofstream(dir / "bake.json") << kTinyBakeConfig;
+    const std::string source = FIRELOOK_SOURCE_DIR;
+    return runIn(dir, "FIRELOOK_EXE='" FIRELOOK_EXE "' " + blender_command + " --python '" + source +
+                          "/tests/blender/" + script + "' -- '" + source + "/samples/blender' '" + kSample + "' '" +
+                          dir.path().string() + "'");
+}
+
 TEST(BlenderAddon, BakesAndPreviewsTheSampleHeadless) {
     if (const std::string why = whyNoBlender(); !why.empty()) GTEST_SKIP() << why;
     TempDir dir;
-    std::ofstream(dir / "bake.json") << kTinyBakeConfig;
-    const std::string source = FIRELOOK_SOURCE_DIR;
-    const CommandResult r = runIn(dir, "FIRELOOK_EXE='" FIRELOOK_EXE "' blender -b --factory-startup --python-exit-code 1 "
-                                       "--python '" + source + "/tests/blender/addon_bake_preview.py' -- '" + source +
-                                       "/samples/blender' '" + kSample + "' '" + dir.path().string() + "'");
+    const CommandResult r =
+        runAddonScript(dir, "blender -b --factory-startup --python-exit-code 1", "addon_bake_preview.py");
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
     EXPECT_NE(r.out.find("addon test: baked and previewed"), std::string::npos) << r.out;
     // Progress reached the log headless (report_progress), and the files are where the add-on says.
@@ -40,11 +47,8 @@ TEST(BlenderAddon, BakesAndPreviewsTheSampleHeadless) {
 TEST(BlenderAddon, BakesModallyWithProgressInTheStatusBar) {
     if (const std::string why = whyNoBlender(); !why.empty()) GTEST_SKIP() << why;
     TempDir dir;
-    std::ofstream(dir / "bake.json") << kTinyBakeConfig;
-    const std::string source = FIRELOOK_SOURCE_DIR;
-    const CommandResult r = runIn(dir, "FIRELOOK_EXE='" FIRELOOK_EXE "' timeout 240 xvfb-run -a blender --factory-startup "
-                                       "--python '" + source + "/tests/blender/addon_modal_bake.py' -- '" + source +
-                                       "/samples/blender' '" + kSample + "' '" + dir.path().string() + "'");
+    const CommandResult r =
+        runAddonScript(dir, "timeout 240 xvfb-run -a blender --factory-startup", "addon_modal_bake.py");
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
     ASSERT_TRUE(std::filesystem::exists(dir / "modal.json")) << r.out << r.err;
     const nlohmann::json seen = nlohmann::json::parse(readFile(dir / "modal.json"));
