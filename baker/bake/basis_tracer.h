@@ -50,11 +50,18 @@ namespace firelook::bake {
 using basis::BasisModel;
 
 struct TraceSettings {
-    // Smallest edge of the coarse cells that hold the scattered light, in voxels. 2 because the
-    // cells' smoothing of the scattered light was the largest error source on the bundled sample
+    // Smallest edge of the coarse cells that hold the scattered light, in voxels. The cells'
+    // smoothing of the scattered light was the largest error source on the bundled sample
     // (scripts/bench/speed_vs_error.sh, frames 3 and 7 at 128x128, 14 looks: noise-corrected
-    // relative RMSE median / worst 1.05% / 3.27% with 4-voxel cells, 0.41% / 1.40% with 2).
-    int cell_voxels = 2;
+    // relative RMSE median / worst 1.05% / 3.27% with 4-voxel cells, 0.41% / 1.40% with 2). 1,
+    // because what sizes the cells is max_cells_per_axis below: with 2 here a small fire was
+    // held by few cells (the sample's frame 3, 28 voxels across, by 14), and its thickest look's
+    // image mean came out 0.36% low at 128x128 (issue 27's emission regime; -0.29% at 64x64,
+    // -0.12% with 1-voxel cells). Only frames of at most 48 voxels along every axis get 1-voxel
+    // cells, so the cost stays bounded by the cells' count: the sample's frames 1-6 at 256x256
+    // baked in 102.6-103.2 s against 91.3-96.6 s with 2 (frames 1-4 got 1-voxel cells; peak 1.19 against
+    // 0.85 GB).
+    int cell_voxels = 1;
     // At most this many cells along any axis of the volume: 48 keeps the bundled 80^3 sample at
     // 2-voxel cells and makes the memory and cost of the scattered light independent of the
     // resolution beyond it (a 480^3 frame gets 11-voxel cells of the same world size)...
@@ -66,11 +73,13 @@ struct TraceSettings {
     // (tau 8 across, albedo 0.9, a sun), the image's energy against the reference was 0.999 /
     // 0.993 / 0.962 with cells of optical depth 0.5 / 1 / 2 (tests/bake/basis_tracer_test.cpp).
     // Finer cells cost by their number: every photon pass sums, normalises and carries whole
-    // fields of points x columns per cell. With cell_voxels 1 and 0.5 here the bundled sample's
-    // frame 3 at the top of its smoke axis (2-voxel cells of optical depth 0.79) had its image-mean
-    // bias go from -0.29% to -0.12% (64x64, tests/accuracy), but dense smoke
-    // (samples/data/smoke at the top of a dense k_s axis) got 1-voxel cells and baked several times
-    // slower, so they are a setting, not the default (README, "Accuracy by regime").
+    // fields of points x columns per cell. 0.5 here would give dense smoke (samples/data/smoke at
+    // the top of a dense k_s axis, 2-voxel cells of optical depth 0.53, within issue 27's bars)
+    // 1-voxel cells and a bake several times slower. Splitting only the thick cells of a frame
+    // was tried (2026-12-06) and made it worse: on frame 3's thickest look at 64x64 the image-mean
+    // bias went from -0.29% (no cell split) to +0.15..+0.29% (the cells above optical depth
+    // 0.3..0.5 split), against -0.12% with every cell split. Where fine cells meet coarse ones the
+    // coarse cells' errors in transport and in what the camera sees no longer cancel.
     double max_cell_optical_depth = 1.0;
     // At most this many light-depth lattice points along any axis (shadow resolution of the
     // single-scattered light): 128 keeps the sample at one point per voxel.

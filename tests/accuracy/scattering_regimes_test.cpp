@@ -16,7 +16,7 @@
 // three; with stratified photons (baker/bake/photon_pass.cpp, 2026-12-06) -0.07%, -0.14%, +0.24%. Margin 0.4%: fails at half the bias the issue found; the reference's own noise of the mean
 // is 0.06-0.09% at 1024 spp here (printed; the test requires below 0.13%), so the margin is 3 or
 // more of its standard errors. CI time: about 165 s for the first three (2-core machine, release
-// build), 8 s more for the fourth (a small frame).
+// build), 6 s more for the fourth (a small frame, 4096 spp).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -39,6 +39,8 @@ struct Regime {
     int frame;
     const char* bake_json;
     const char* bench_flags;
+    double bias_margin = 0.004;
+    int spp = 1024;
 };
 
 void checkRegime(const Regime& r) {
@@ -51,7 +53,7 @@ void checkRegime(const Regime& r) {
                                      std::to_string(r.frame) + " --config bake.json -o " + package);
     ASSERT_EQ(bake.exit_code, 0) << r.name << ": " << bake.err;
     const auto bench = runIn(dir, firelook + " bench " + sequence + " --package " + package + " --frames " +
-                                      std::to_string(r.frame) + " --looks 2 --spp 1024 " + r.bench_flags +
+                                      std::to_string(r.frame) + " --looks 2 --spp " + std::to_string(r.spp) + " " + r.bench_flags +
                                       " --json bench.json");
     ASSERT_EQ(bench.exit_code, 0) << r.name << ": " << bench.err;
     const nlohmann::json result = nlohmann::json::parse(std::ifstream(dir / "bench.json"));
@@ -62,8 +64,8 @@ void checkRegime(const Regime& r) {
     std::printf("[measured] %s: worst channel image-mean bias %+.4f (reference noise of the mean %.4f), max alpha "
                 "error %.4f\n",
                 r.name, bias, noise, alpha);
-    EXPECT_LT(std::abs(bias), 0.004) << r.name;
-    EXPECT_LT(noise, 0.0013) << r.name << ": the reference is too noisy to judge a 0.4% bias";
+    EXPECT_LT(std::abs(bias), r.bias_margin) << r.name;
+    EXPECT_LT(noise, r.bias_margin / 3) << r.name << ": the reference is too noisy to judge the margin";
     // Alpha: the issue's bar 0.005 (alpha is exact for any look; what is left is the codec and the
     // footprint quadrature, hence 4 x 4 rays a pixel at 64x64 as docs/bake-config.md advises: with
     // 3 x 3 the dense case measured 0.0055).
@@ -93,16 +95,18 @@ TEST(ScatteringRegimes, ThinLateSmokeWithEmission) {
 }
 
 // The emission regime's thickest look (README, "Accuracy by regime"): the explosion's frame 3 with
-// k_s 15.2 near the top of its axis, where the 2-voxel cells are optically thick (0.79). Measured
-// here: -0.29% with the defaults (the same with the 0.25-voxel step of before: at 64x64 camera rays
-// step by the footprint), -0.12% with 1-voxel cells (`"cell_voxels": 1, "max_cell_optical_depth":
-// 0.5`). The margin is the other regimes' 0.4%.
+// k_s 15.2 near the top of its axis. The frame is 28 voxels across: with 2-voxel cells (optical
+// depth 0.79, the default until 2026-12-06) its image mean came out 0.36% low at 128x128 in
+// scripts/bench/accuracy.sh. Measured here at 4096 spp (reference noise of the mean 0.05%): -0.10%
+// with the default 1-voxel cells (TraceSettings::cell_voxels), -0.27% with "cell_voxels": 2.
+// Margin 0.25%: within the issue's 0.3% bar, failed by the 2-voxel cells (checked), and three
+// reference standard errors from the measured -0.10%. About 6 s of CI.
 TEST(ScatteringRegimes, ThickSmokeAroundTheFlame) {
     checkRegime({"smoke around the flame (explosion frame 3, T_c 1.05, k_s 15.2, k_f 3.8, albedo 0.7)",
                  FIRELOOK_SAMPLE_DIR, 3,
                  R"({"axes": {"temperature_threshold": 1.05, "smoke_extinction": 15.2,
                      "flame_extinction": 3.8}, "trace": {"footprint_samples_per_axis": 4}})",
-                 ""});
+                 "", 0.0025, 4096});
 }
 
 }  // namespace

@@ -286,17 +286,19 @@ TEST(BasisTracer, ScatteredEmissionIsNotBiasedLow) {
 
 // Thick, high-albedo smoke lit by a sun (smoke-dominated frames used to render 2% dark): k_s 16 on
 // density 0.5 across a unit box of 16^3 voxels is an optical depth of 8, albedo 0.9, so most of the
-// image is light scattered many times (16 orders). The default cells are 2 voxels, optical depth 1
-// (TraceSettings::max_cell_optical_depth). The image's energy must match the reference within its
-// noise. Measured (release, seeds 1-6): sum ratio 0.982-0.989 with stratified photons (spread
-// 0.3%), 0.965-1.019 with independent ones, against a reference whose sum noise is ~0.3%.
-// Tolerance: 3 reference standard errors of the sum plus 1.5% for the basis's photon noise and
-// the optical depth 1 cells (20000 photons per order).
-// With cells of optical depth 0.5 (1 voxel; cell_voxels 1, max_cell_optical_depth 0.5, the setting
-// docs/model.md names for thick smoke) measured 0.9995 (seed 2); tolerance 3 reference standard
-// errors plus 0.5% for the photon noise, which the 1.1-1.8% deficit of the thicker cells exceeds.
+// image is light scattered many times (16 orders). The image's energy must match the reference
+// within its noise, with the default cells and with cells of 2 voxels.
+// Default: the box is 18 cell widths across with its margin, under max_cells_per_axis, so its cells
+// are 1 voxel (cell_voxels 1), optical depth 0.5: measured 0.9995 (seed 2); tolerance 3 reference
+// standard errors plus 0.5% for the photon noise, which the thicker cells' 1.1-1.8% deficit
+// exceeds.
+// Cells of 2 voxels (cell_voxels 2; optical depth 1, TraceSettings::max_cell_optical_depth): measured
+// (release, seeds 1-6) sum ratio 0.982-0.989 with stratified photons (spread 0.3%), 0.965-1.019
+// with independent ones, against a reference whose sum noise is ~0.3%. Tolerance: 3 reference
+// standard errors of the sum plus 1.5% for the basis's photon noise and the optical depth 1 cells
+// (20000 photons per order).
 TEST(BasisTracer, ThickHighAlbedoSmokeKeepsItsEnergy) {
-    for (const bool fine : {false, true}) {
+    for (const int cell_voxels : {TraceSettings{}.cell_voxels, 2}) {
         ScatteringBox box;
         box.model = basisModel(2, 0.9, {{0.3}, {16.0}, {0.5}});
         box.medium = unitBox(0.5f, 0.1f, 16);  // below T_c: all smoke
@@ -305,18 +307,15 @@ TEST(BasisTracer, ThickHighAlbedoSmokeKeepsItsEnergy) {
         TraceSettings settings = fastTrace(2);
         settings.photons_primary = settings.photons_per_order = 20000;
         settings.max_orders = 30;
-        if (fine) {
-            settings.cell_voxels = 1;
-            settings.max_cell_optical_depth = 0.5;
-        }
+        settings.cell_voxels = cell_voxels;
         const FrameBasis b = traceFrameBasis(box.medium, box.camera, box.model, settings);
         const Comparison c = compareWithReference(box, b, 0, 1024);
         std::printf("[measured] thick smoke (tau 8, albedo 0.9): sum ratio %.4f (reference sum noise %.4f), relative "
                     "RMSE %.4f (reference noise %.4f), orders %d, cell optical depth %.2f\n",
                     c.mean_ratio, c.reference_sum_noise, c.rmse, c.reference_noise, b.scattering_orders,
                     b.cell_optical_depth);
-        EXPECT_EQ(b.cell_edge_voxels, fine ? 1 : 2);
-        EXPECT_NEAR(c.mean_ratio, 1.0, 3.0 * c.reference_sum_noise + (fine ? 0.005 : 0.015));
+        ASSERT_EQ(b.cell_edge_voxels, cell_voxels);
+        EXPECT_NEAR(c.mean_ratio, 1.0, 3.0 * c.reference_sum_noise + (cell_voxels == 1 ? 0.005 : 0.015));
         EXPECT_LT(c.rmse, 3.0 * c.reference_noise + 0.06);
     }
 }
