@@ -57,10 +57,11 @@ struct TraceSettings {
     // because what sizes the cells is max_cells_per_axis below: with 2 here a small fire was
     // held by few cells (the sample's frame 3, 28 voxels across, by 14), and its thickest look's
     // image mean came out 0.36% low at 128x128 (issue 27's emission regime; -0.29% at 64x64,
-    // -0.12% with 1-voxel cells). Only frames of at most 48 voxels along every axis get 1-voxel
-    // cells, so the cost stays bounded by the cells' count: the sample's frames 1-6 at 256x256
-    // baked in 102.6-103.2 s against 91.3-96.6 s with 2 (frames 1-4 got 1-voxel cells; peak 1.19 against
-    // 0.85 GB).
+    // -0.12% with 1-voxel cells). Only frames whose influence box (active voxels and margins)
+    // spans at most 48 voxels get 1-voxel cells, so the cost stays bounded by the cells' count:
+    // of the sample, frames 1-4 (up to 37 voxels across; frame 5, 46 across, keeps 2-voxel
+    // cells), and its frames 1-6 at 256x256 baked in 102.6-103.2 s against 91.3-96.6 s with 2
+    // (peak 1.19 against 0.85 GB).
     int cell_voxels = 1;
     // At most this many cells along any axis of the volume: 48 keeps the bundled 80^3 sample at
     // 2-voxel cells and makes the memory and cost of the scattered light independent of the

@@ -40,6 +40,12 @@ now() { date +%s.%N; }
 # The "estimated relative RMSE X" a reference prints.
 estimated_rmse() { sed -n 's/.*estimated relative RMSE \([0-9.eE+-]*\).*/\1/p' "$1" | tail -n 1; }
 json_number() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))$2)" "$1"; }
+# render_reference SPP NAME: the reference of this row's frame and size as DIR/NAME.exr, its
+# output (with the noise estimate) in DIR/NAME.txt.
+render_reference() {
+  "$firelook" reference "$seq" --frame "$frame" --size "${s}x$s" --up "$up" --spp "$1" \
+    -o "$dir/$2.exr" > "$dir/$2.txt" 2> /dev/null
+}
 
 for n in $factors; do
   if [[ "$n" == 1 ]]; then
@@ -62,13 +68,11 @@ for n in $factors; do
     "$firelook" bake "$seq" --frames "$frame" --size "${s}x$s" --up "$up" -o "$dir/package.firelook" \
       --report "$dir/bake.json" "${bake_args[@]}" > "$dir/bake.txt" 2> "$dir/bake.err"
     bake_s=$(python3 -c "print($(now) - $t0)")
-    "$firelook" reference "$seq" --frame "$frame" --size "${s}x$s" --up "$up" --spp "$pilot_spp" \
-      -o "$dir/pilot.exr" > "$dir/pilot.txt" 2> /dev/null
+    render_reference "$pilot_spp" pilot
     pilot_rmse=$(estimated_rmse "$dir/pilot.txt")
     spp=$(python3 -c "import math; print(max(1, math.ceil($pilot_spp * ($pilot_rmse / $target) ** 2)))")
     t0=$(now)
-    "$firelook" reference "$seq" --frame "$frame" --size "${s}x$s" --up "$up" --spp "$spp" \
-      -o "$dir/reference.exr" > "$dir/reference.txt" 2> /dev/null
+    render_reference "$spp" reference
     ref_s=$(python3 -c "print($(now) - $t0)")
     ref_noise=$(estimated_rmse "$dir/reference.txt")
     "$firelook" bench "$seq" --package "$dir/package.firelook" --frames "$frame" --looks "$looks" \

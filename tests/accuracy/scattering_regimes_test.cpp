@@ -53,8 +53,8 @@ void checkRegime(const Regime& r) {
                                      std::to_string(r.frame) + " --config bake.json -o " + package);
     ASSERT_EQ(bake.exit_code, 0) << r.name << ": " << bake.err;
     const auto bench = runIn(dir, firelook + " bench " + sequence + " --package " + package + " --frames " +
-                                      std::to_string(r.frame) + " --looks 2 --spp " + std::to_string(r.spp) + " " + r.bench_flags +
-                                      " --json bench.json");
+                                      std::to_string(r.frame) + " --looks 2 --spp " + std::to_string(r.spp) +
+                                      " " + r.bench_flags + " --json bench.json");
     ASSERT_EQ(bench.exit_code, 0) << r.name << ": " << bench.err;
     const nlohmann::json result = nlohmann::json::parse(std::ifstream(dir / "bench.json"));
     const nlohmann::json& s = result.at("summary");
