@@ -244,14 +244,15 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                 for (int sample = 0; sample < out.footprint_samples; ++sample) {
                     double depth_b = 0.0;
                     if (!ray_march.marchPixelRay(px, py, (sample % per_axis + 0.5) / per_axis,
-                                                 (sample / per_axis + 0.5) / per_axis, per_axis, sample_weight, row,
-                                                 depth_b, depth_a.data()))
+                                                 (sample / per_axis + 0.5) / per_axis, per_axis, sample_weight, depth_b,
+                                                 depth_a.data()))
                         continue;
                     out.depth_b[static_cast<size_t>(sample) * pixels + pixel] = static_cast<float>(depth_b);
                     float* sigmoid_out = out.depth_a.data() + static_cast<size_t>(sample) * tb.n_alpha * pixels + pixel;
                     for (int a = 0; a < tb.n_alpha; ++a) sigmoid_out[a * pixels] = static_cast<float>(depth_a[a]);
                 }
-                // Scattered light: the gathered cells' weights contracted once per pixel.
+                // The direct light, and the gathered cells' weights contracted: once per pixel.
+                ray_march.addDirect(row);
                 if (!lbar_sum.empty()) ray_march.contract(lbar_sum, row);
             }
             gate.report(0.6 + 0.4 * (rows_done.fetch_add(1) + 1) / out.height);

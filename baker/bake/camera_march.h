@@ -1,9 +1,10 @@
 // One camera ray of the basis tracer (basis_tracer.h, step 3), shared by the image itself and by the
-// photon-noise estimate (photon_noise.h): the ray marches the exact fine medium once and adds, for
-// every grid point and column at once, the direct emission and the lights' single scattering to a
-// pixel's row, the optical depths alpha needs, and the weights of the cells whose scattered light it
-// gathers. contract() then adds those cells' Lbar (or any field of the same shape) to a row: the
-// per-cell work is done once per pixel, not once per step.
+// photon-noise estimate (photon_noise.h): the ray marches the exact fine medium once and gathers,
+// for every grid point and column at once, the direct emission and the lights' single scattering,
+// the optical depths alpha needs, and the weights of the cells whose scattered light it gathers.
+// addDirect() and contract() then add them to a pixel's row: the per-column and per-cell work is
+// done once per pixel, not once per step. The per-step loops run over the grid points with the
+// point index innermost and contiguous (`#pragma omp simd`): they are most of a bake's time.
 #pragma once
 
 #include <vector>
@@ -30,11 +31,13 @@ class CameraMarch {
     // Forgets the cells gathered for the previous pixel.
     void beginPixel();
     // Marches the camera ray through (px + u, py + v), one of rays_per_axis^2 footprint rays of its
-    // pixel: adds `weight` times the ray's direct integrals to row (points x columns) and to the
-    // gathered cells' weights; depth_b and depth_a[alpha] get the ray's optical depths (not
-    // weighted). False, with nothing added or written, when the ray misses the volume.
-    bool marchPixelRay(int px, int py, double u, double v, int rays_per_axis, float weight, float* row,
-                       double& depth_b, double* depth_a);
+    // pixel: adds `weight` times the ray's direct integrals and the gathered cells' weights to the
+    // pixel's; depth_b and depth_a[alpha] get the ray's optical depths (not weighted). False, with
+    // nothing added or written, when the ray misses the volume.
+    bool marchPixelRay(int px, int py, double u, double v, int rays_per_axis, float weight, double& depth_b,
+                       double* depth_a);
+    // row (points x columns) += the direct integrals of the rays marched since beginPixel.
+    void addDirect(float* row) const;
     // row += for every cell gathered since beginPixel: its weights times field (slots x points x columns).
     void contract(const std::vector<float>& field, float* row) const;
 
@@ -48,7 +51,10 @@ class CameraMarch {
     double min_step_, footprint_step_;
     double pixel_angle_;  // radians a pixel spans vertically
     bool scattering_;
-    std::vector<float> tau_, tau_next_, sigma_t_, ltau_, path_;
+    std::vector<float> tau_, tau_next_, sigma_t_, ltau_, path_, removed_;
+    std::vector<double> sigmoid_;  // per alpha threshold
+    std::vector<float> direct_;    // [column][point]: the pixel's direct integrals
+    bool direct_added_ = false;    // whether direct_ holds anything since beginPixel
     std::vector<int> entry_of_slot_;  // -1, or the index of the slot in touched_
     std::vector<int> touched_;
     std::vector<float> kernel_;  // [entry][point]

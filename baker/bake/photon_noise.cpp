@@ -41,7 +41,8 @@ double predictPhotonNoise(const PhotonNoiseInputs& in, const std::vector<float>&
             double depth_b = 0.0;
             ray_march.beginPixel();
             // The pixel's centre ray, with the bake's step for one ray per pixel.
-            if (!ray_march.marchPixelRay(px, py, 0.5, 0.5, 1, 1.0f, direct.data(), depth_b, depth_a.data())) continue;
+            if (!ray_march.marchPixelRay(px, py, 0.5, 0.5, 1, 1.0f, depth_b, depth_a.data())) continue;
+            ray_march.addDirect(direct.data());
             ray_march.contract(lbar, scattered.data());
             ray_march.contract(noise, noisy.data());
             for (std::size_t i = 0; i < GC; ++i) {

@@ -147,8 +147,10 @@ void traceChunk(const TransportContext& ctx, SourceKind kind, const PhotonStartS
             for (int g = 0; g < G; ++g) {
                 const float sum = cell_sum[g];
                 if (sum == 0.0f) continue;
-                const float* w = kind == SourceKind::Emission ? weight.data() : weight.data() + g * C;
-                for (int col = col_first; col < col_last; ++col) out[g * C + col] += sum * w[col];
+                const float* __restrict w = kind == SourceKind::Emission ? weight.data() : weight.data() + g * C;
+                float* __restrict to = out + static_cast<std::size_t>(g) * C;
+#pragma omp simd
+                for (int col = col_first; col < col_last; ++col) to[col] += sum * w[col];
                 cell_sum[g] = 0.0f;
             }
         };
@@ -164,8 +166,13 @@ void traceChunk(const TransportContext& ctx, SourceKind kind, const PhotonStartS
             }
             if (slot >= 0) {
                 tb.extinction(smoke, flame, sigma_t.data());
+                const float* __restrict s_t = sigma_t.data();
+                const float* __restrict t_start = tau.data();
+                const float* __restrict t_end = tau_next.data();
+                float* __restrict sum = cell_sum.data();
+#pragma omp simd
                 for (int g = 0; g < G; ++g)
-                    cell_sum[g] += tb.albedo * sigma_t[g] * stepPathLength(tau[g], tau_next[g], sigma_t[g], dt);
+                    sum[g] += tb.albedo * s_t[g] * stepPathLength(t_start[g], t_end[g], s_t[g], dt);
             }
             tau.swap(tau_next);
             return tb.maxTransmittance(d_smoke, d_flame) > kNegligibleTransmittance;

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -22,11 +24,67 @@ inline constexpr float kNegligibleTransmittance = 1e-5f;
 // The isotropic phase function.
 inline constexpr float kInv4Pi = static_cast<float>(0.25 / std::numbers::pi);
 
+// exp(x) for x <= 0 in plain float arithmetic, so that a loop of them vectorises (a call to expf
+// cannot): range reduction to 2^n e^r with |r| <= ln2 / 2 and Cephes' degree-6 polynomial for e^r,
+// within 2 ulp of std::exp (tests/bake/trace_tables_test.cpp). Below -87, 0: exp(-87) = 1.6e-38,
+// far below kNegligibleTransmittance. The transmittances were a fifth of a frame's bake through
+// glibc's expf. Only +, -, * and conversions: the same bits on every x86-64 and under any
+// vectorisation.
+inline float expNonPositive(float x) {
+    x = x > -87.0f ? (x < 0.0f ? x : 0.0f) : -87.0f;
+    constexpr float kRound = 12582912.0f;  // 1.5 * 2^23: adding it rounds to an integer
+    const float n = (x * 1.44269504088896341f + kRound) - kRound;
+    const float r = (x - n * 0.693359375f) + n * 2.12194440e-4f;
+    float p = 1.9875691500e-4f;
+    p = p * r + 1.3981999507e-3f;
+    p = p * r + 8.3334519073e-3f;
+    p = p * r + 4.1665795894e-2f;
+    p = p * r + 1.6666665459e-1f;
+    p = p * r + 5.0000001201e-1f;
+    const float e_r = p * r * r + r + 1.0f;
+    const std::int32_t bits = (static_cast<std::int32_t>(n) + 127) << 23;  // 2^n, n in [-126, 0]
+    return e_r * std::bit_cast<float>(bits);
+}
+
+// exp(2 (t - c_i) k) for fixed centres c_i and any t in [lo, hi], from one exponential:
+// exp(2 (t - c_0) k) exp(-2 (c_i - c_0) k). The split and alpha's sigmoids need a tanh per sampled
+// T_c and per alpha threshold at every march step (27 on the bundled sample), and glibc's tanhf
+// (through expm1f) was 12% of a frame's bake. Double precision keeps each within rounding of
+// std::tanh's; where an exponent could leave +-300 (centres far outside [lo, hi]) every value gets
+// its own exponential, clamped there (tanh is then +-1 to double precision).
+class TanhLadder {
+  public:
+    TanhLadder() = default;
+    TanhLadder(const std::vector<float>& centres, float k, float lo, float hi) : k2_(2.0 * k) {
+        for (float c : centres) {
+            centres_.push_back(c);
+            ratio_.push_back(std::exp(-k2_ * (double(c) - double(centres.front()))));
+            ladder_ = ladder_ && std::fabs(k2_ * (double(lo) - c)) <= kBound && std::fabs(k2_ * (double(hi) - c)) <= kBound;
+        }
+    }
+    void exponentials(float t, double* e) const {
+        const int n = static_cast<int>(centres_.size());
+        if (ladder_ && n > 0) {
+            const double e0 = std::exp(k2_ * (double(t) - centres_[0]));
+            for (int i = 0; i < n; ++i) e[i] = e0 * ratio_[i];
+        } else {
+            for (int i = 0; i < n; ++i) e[i] = std::exp(std::clamp(k2_ * (double(t) - centres_[i]), -kBound, kBound));
+        }
+    }
+
+  private:
+    static constexpr double kBound = 300.0;
+    double k2_ = 0.0;
+    std::vector<double> centres_, ratio_;
+    bool ladder_ = true;
+};
+
 struct TraceTables {
     int n_tc = 0, n_ks = 0, n_kf = 0, points = 0, bins = 0, lights = 0, columns = 0, n_alpha = 0;
     std::vector<float> tc, ks, kf, alpha_tc, bin_centre;
     float t_lo = 0, t_hi = 0, emission_t_lo = 0, emission_t_hi = 0, inv_2dt = 0, inv_rbf_width = 0,
           rbf_reach = 0, albedo = 0;
+    TanhLadder tc_ladder, alpha_ladder;
 
     explicit TraceTables(const BasisModel& m) {
         n_tc = static_cast<int>(m.axes.temperature_threshold.size());
@@ -53,6 +111,8 @@ struct TraceTables {
         inv_rbf_width = static_cast<float>(1.0 / (m.rbf_width * m.bins.width()));
         rbf_reach = static_cast<float>(kRbfSupport * m.rbf_width * m.bins.width());
         albedo = static_cast<float>(m.albedo);
+        tc_ladder = TanhLadder(tc, inv_2dt, t_lo, t_hi);
+        alpha_ladder = TanhLadder(alpha_tc, inv_2dt, t_lo, t_hi);
     }
 
     float clampT(float t) const { return t >= t_lo ? (t <= t_hi ? t : t_hi) : t_lo; }
@@ -60,24 +120,39 @@ struct TraceTables {
         return t >= emission_t_lo ? (t <= emission_t_hi ? t : emission_t_hi) : emission_t_lo;
     }
 
-    // rho (1 -+ f(T - T_c)) / 2 for every sampled T_c: extinction is k_s*smoke + k_f*flame.
+    // rho (1 -+ f(T - T_c)) / 2 for every sampled T_c, f = tanh((T - T_c) / (2 dT)): extinction is
+    // k_s*smoke + k_f*flame. With E = exp(2 (T - T_c) / (2 dT)), (1 - f) / 2 = 1 / (1 + E) and
+    // (1 + f) / 2 = E / (1 + E).
     void split(float rho, float t, float* smoke, float* flame) const {
-        const float tcl = clampT(t);
+        double e[kMaxAxisSamples];
+        tc_ladder.exponentials(clampT(t), e);
         for (int i = 0; i < n_tc; ++i) {
-            const float f = std::tanh((tcl - tc[i]) * inv_2dt);
-            smoke[i] = 0.5f * rho * (1.0f - f);
-            flame[i] = 0.5f * rho * (1.0f + f);
+            const double inv = 1.0 / (1.0 + e[i]);
+            smoke[i] = static_cast<float>(rho * inv);
+            flame[i] = static_cast<float>(rho * e[i] * inv);
         }
+    }
+
+    // tanh((T - alpha_tc[a]) / (2 dT)) for every alpha threshold: the flame share of the optical
+    // depths alpha is stored for (docs/model.md, "alpha").
+    void alphaSigmoids(float t, double* f) const {
+        alpha_ladder.exponentials(clampT(t), f);
+        for (int a = 0; a < n_alpha; ++a) f[a] = 1.0 - 2.0 / (1.0 + f[a]);
     }
 
     // tau_g = exp(-k_s D_s(T_c) - k_f D_f(T_c)) for every grid point g, factorised
     // so that only n_tc * (n_ks + n_kf) exponentials are evaluated.
     void transmittance(const float* d_smoke, const float* d_flame, float* tau) const {
         float es[kMaxAxisSamples], ef[kMaxAxisSamples];
+        const float* __restrict k_s = ks.data();
+        const float* __restrict k_f = kf.data();
         int g = 0;
         for (int a = 0; a < n_tc; ++a) {
-            for (int s = 0; s < n_ks; ++s) es[s] = std::exp(-ks[s] * d_smoke[a]);
-            for (int f = 0; f < n_kf; ++f) ef[f] = std::exp(-kf[f] * d_flame[a]);
+            const float ds = d_smoke[a], df = d_flame[a];
+#pragma omp simd
+            for (int s = 0; s < n_ks; ++s) es[s] = expNonPositive(-k_s[s] * ds);
+#pragma omp simd
+            for (int f = 0; f < n_kf; ++f) ef[f] = expNonPositive(-k_f[f] * df);
             for (int s = 0; s < n_ks; ++s)
                 for (int f = 0; f < n_kf; ++f) tau[g++] = es[s] * ef[f];
         }
@@ -94,7 +169,13 @@ struct TraceTables {
     // Largest transmittance over the grid (smallest k_s and k_f, every T_c).
     float maxTransmittance(const float* d_smoke, const float* d_flame) const {
         float best = 0.0f;
-        for (int a = 0; a < n_tc; ++a) best = std::max(best, std::exp(-ks[0] * d_smoke[a] - kf[0] * d_flame[a]));
+        for (int a = 0; a < n_tc; ++a) best = std::max(best, expNonPositive(-ks[0] * d_smoke[a] - kf[0] * d_flame[a]));
+        return best;
+    }
+    // The same from a grid of transmittances transmittance() wrote (no exponential).
+    float maxTransmittance(const float* tau) const {
+        float best = 0.0f;
+        for (int a = 0; a < n_tc; ++a) best = std::max(best, tau[a * n_ks * n_kf]);
         return best;
     }
 
