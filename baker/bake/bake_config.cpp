@@ -111,7 +111,7 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         if (j.contains("trace")) {
             const json& t = j["trace"];
             checkKeys(t, {"cell_voxels", "max_cells_per_axis", "max_cell_optical_depth", "light_points_per_axis", "photons_primary",
-                          "photons_per_order", "photon_noise_target", "max_photon_scale", "max_orders", "order_tolerance",
+                          "photons_per_order", "photon_noise_target", "max_photon_scale", "photon_pilot_share", "max_orders", "order_tolerance",
                           "step_voxels", "footprint_step", "footprint_samples_per_axis"},
                       "trace");
             c.trace.cell_voxels = t.value("cell_voxels", c.trace.cell_voxels);
@@ -123,6 +123,7 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             c.trace.photons_per_order = t.value("photons_per_order", c.trace.photons_per_order);
             c.trace.photon_noise_target = t.value("photon_noise_target", c.trace.photon_noise_target);
             c.trace.max_photon_scale = t.value("max_photon_scale", c.trace.max_photon_scale);
+            c.trace.photon_pilot_share = t.value("photon_pilot_share", c.trace.photon_pilot_share);
             c.trace.max_orders = t.value("max_orders", c.trace.max_orders);
             c.trace.order_tolerance = t.value("order_tolerance", c.trace.order_tolerance);
             c.trace.step_voxels = t.value("step_voxels", c.trace.step_voxels);
@@ -151,10 +152,12 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             c.trace.max_cells_per_axis < 1 || !(c.trace.max_cell_optical_depth > 0.0) || c.trace.light_points_per_axis < 2 || !(c.trace.footprint_step >= 0.0) ||
             c.trace.photons_per_order < 1 || c.trace.footprint_samples_per_axis < 0 ||
             c.trace.footprint_samples_per_axis > 8 || !(c.trace.photon_noise_target >= 0.0) ||
-            c.trace.max_photon_scale < 1 || c.trace.max_photon_scale > 64)
+            c.trace.max_photon_scale < 1 || c.trace.max_photon_scale > 64 ||
+            !(c.trace.photon_pilot_share > 0.0 && c.trace.photon_pilot_share <= 1.0))
             throw Error(ErrorCode::InvalidArgument,
                         "trace settings must be positive (footprint_samples_per_axis 0..8, 0 = from the image size; "
-                        "photon_noise_target >= 0, 0 = the photons as given; max_photon_scale 1..64)");
+                        "photon_noise_target >= 0, 0 = the photons as given; max_photon_scale 1..64; "
+                        "photon_pilot_share in (0, 1])");
     } catch (const Error& e) {
         throw Error(e.code(), file.string() + ": " + e.what());
     } catch (const std::exception& e) {  // nlohmann-json's: the file is not the JSON a config is
@@ -231,7 +234,8 @@ std::string configToJson(const BakeConfig& c) {
                   {"photons_primary", c.trace.photons_primary},
                   {"photons_per_order", c.trace.photons_per_order},
                   {"photon_noise_target", c.trace.photon_noise_target},
-                  {"max_photon_scale", c.trace.max_photon_scale}, {"max_orders", c.trace.max_orders},
+                  {"max_photon_scale", c.trace.max_photon_scale},
+                  {"photon_pilot_share", c.trace.photon_pilot_share}, {"max_orders", c.trace.max_orders},
                   {"order_tolerance", c.trace.order_tolerance},   {"step_voxels", c.trace.step_voxels},
                   {"footprint_samples_per_axis", c.trace.footprint_samples_per_axis}};
     j["compression"] = {{"target_relative_error", c.compression.target_relative_error},

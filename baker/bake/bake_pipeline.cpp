@@ -150,6 +150,7 @@ nlohmann::ordered_json errorsEntry(const FrameBakeReport& fr) {
             {"last_order_fraction", fr.last_order_fraction},
             {"scattering_tail_fraction", fr.tail_fraction},
             {"photon_chains", fr.photon_chains},
+            {"photon_multiple", fr.photon_multiple},
             {"predicted_photon_noise", fr.predicted_photon_noise}};
     if (fr.has_target) entry["storage_target"] = storageTargetEntry(fr);
     return entry;
@@ -176,6 +177,8 @@ FrameBakeReport reportFromMetadata(int frame, const FrameMetadata& kept) {
     fr.tail_fraction = e.value("scattering_tail_fraction", 0.0);  // packages before 2026-12-03 lack it
     fr.photon_chains = e.value("photon_chains", 0);                // and before 2026-12-06 these
     fr.predicted_photon_noise = e.value("predicted_photon_noise", 0.0);
+    // Before the pilot chains (2026-12-06) every chain held half the settings' photons.
+    fr.photon_multiple = e.value("photon_multiple", 0.5 * fr.photon_chains);
     if (e.contains("storage_target")) {
         const nlohmann::ordered_json& t = e.at("storage_target");
         fr.has_target = true;
@@ -372,6 +375,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         fr.last_order_fraction = traced.last_order_fraction;
         fr.tail_fraction = traced.tail_fraction;
         fr.photon_chains = traced.photon_chains;
+        fr.photon_multiple = traced.photon_multiple;
         fr.predicted_photon_noise = traced.predicted_photon_noise;
         fr.setup_seconds = traced.seconds_setup;
         fr.light_seconds = traced.seconds_light;

@@ -33,7 +33,8 @@ struct FrameBakeReport {
     int scattering_orders = 0;
     double last_order_fraction = 0.0;  // largest share of a column's scattered power the last order added
     double tail_fraction = 0.0;        // largest share the geometric tail of the untraced orders added
-    int photon_chains = 0;             // independent photon chains traced (2 = the settings' photons)
+    int photon_chains = 0;             // independent photon chains traced
+    double photon_multiple = 0.0;      // photons traced / the photons the settings name
     double predicted_photon_noise = 0.0;  // the worst column's predicted photon noise (photon_noise.h)
     double trace_seconds = 0.0;
     double compress_seconds = 0.0;

@@ -202,22 +202,28 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
             gate.throwIfStopped();
             return worst;
         };
-        // Two chains: the photons the settings name, and the first noise prediction. Then as many
-        // more as the target asks (noise falls as 1/sqrt(chains)), up to max_photon_scale times the
-        // photons, and the prediction again for the report.
+        // Two chains (the pilot: the photons the settings name, or photon_pilot_share of them with a
+        // target), and the first noise prediction. Then as many more as the target asks (noise
+        // falls as 1/sqrt(chains)), up to max_photon_scale times the settings' photons, and the
+        // prediction again for the report.
         scattered.addChains(2, [&](double done) { gate.checkpoint(0.08 + 0.22 * done); });
         double noise = predict();
         const double target = settings.photon_noise_target;
         if (target > 0.0 && noise > target) {
             const double wanted = 2.0 * (noise / target) * (noise / target);
-            int chains = std::min(2 * settings.max_photon_scale, static_cast<int>(std::ceil(wanted)));
+            int most = static_cast<int>(std::floor(2.0 * settings.max_photon_scale / scattered.chainShare()));
+            most -= most % 2;
+            // In double until capped: a target far below the noise asks for more chains than an int holds.
+            int chains = static_cast<int>(std::min(std::ceil(wanted), static_cast<double>(most)));
             chains += chains % 2;  // an even count keeps the noise sample's expectation zero
+            chains = std::min(chains, most);
             if (chains > 2) {
                 scattered.addChains(chains - 2, [&](double done) { gate.checkpoint(0.3 + 0.28 * done); });
                 noise = predict();
             }
         }
         out.photon_chains = scattered.chains();
+        out.photon_multiple = scattered.photonMultiple();
         out.predicted_photon_noise = noise;
         lbar_sum = std::move(scattered).estimate();
         out.scattering_orders = scattered.orders();

@@ -91,15 +91,24 @@ struct TraceSettings {
     int photons_primary = 131072;
     int photons_per_order = 65536;
     // The photon noise each column's image may have, as a relative RMSE predicted from the chains
-    // (photon_noise.h): when two chains predict more for any column, the tracer adds chains until
-    // the prediction meets it, up to max_photon_scale times the photons above. 0 keeps the photons
-    // as given. 0.01 because a look mixes columns and the worst look of issue 27's bars may have
-    // 1.5% error in all: measured on the regimes of scripts/bench/accuracy.sh (64x64, predictions
-    // of two chains at these photons), the emission frames' worst columns are 0.3-0.5% (no change),
-    // dense smoke's cold temperature bins 1.5-2.2% (4x the photons: its sunlit column 0.71% ->
-    // 0.36%, which the looks of that regime are made of).
+    // (photon_noise.h): when the first two chains predict more for any column, the tracer adds
+    // chains until the prediction meets it, up to max_photon_scale times the photons above. 0 keeps
+    // the photons as given. 0.01 because a look mixes columns and the worst look of issue 27's bars
+    // may have 1.5% error in all: measured on the regimes of scripts/bench/accuracy.sh (64x64,
+    // predictions of two chains at these photons), the emission frames' worst columns are 0.3-0.5%
+    // (no change), dense smoke's cold temperature bins 1.5-2.2% (4x the photons: its sunlit column
+    // 0.71% -> 0.36%, which the looks of that regime are made of).
     double photon_noise_target = 0.01;
     int max_photon_scale = 4;
+    // With a target, every chain holds this share of the photons above, so the first two (the
+    // pilot) can ask for fewer photons than the settings name as well as for more: a frame whose
+    // noise is well within the target then costs that share. 1 (whole chains) by default, as what a
+    // look's image gets of the photon noise is 0.15-0.52 of the worst column's prediction on the
+    // regimes of scripts/bench/accuracy.sh (tracing error of `bench --split`, median over looks),
+    // and the frames the defaults were measured with predicted 0.46-1.09%: with 0.25, frame 12 of
+    // the bundled sample at 256x256 baked in 53.3 s against 65.5 s, its prediction 0.96% against
+    // 0.47% (0.25 with a target of 0.007: 4 quarter chains, 0.70%, 63.6 s).
+    double photon_pilot_share = 1.0;
     // Scattering orders (photon passes) at most; 0 traces none (direct light and single scattering
     // of the lights only: a diagnostic, tests/bake/scatter_order_report).
     int max_orders = 12;
@@ -170,7 +179,8 @@ struct FrameBasis {
     int scattering_orders = 0;          // orders traced
     double last_order_fraction = 0.0;   // largest share of a column's scattered power the last order added
     double tail_fraction = 0.0;         // largest share of a column's scattered power the added tail is
-    int photon_chains = 0;              // independent photon chains traced (2 = the photons as set)
+    int photon_chains = 0;              // independent photon chains traced
+    double photon_multiple = 0.0;       // photons traced / the photons the settings name
     double predicted_photon_noise = 0.0;  // photon_noise.h: the worst column's prediction
     int cell_edge_voxels = 0;           // what the plan chose
     int light_spacing_voxels = 0;

@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "bake/order_series.h"
 
@@ -21,8 +22,9 @@ ScatteredLightTracer::ScatteredLightTracer(const TransportContext& ctx, const Ba
       settings_(settings),
       albedo_(model.albedo),
       counted_(model.six_way_first_light >= 0 ? ctx.tables.bins + model.six_way_first_light : ctx.tables.columns),
-      photons_primary_(std::max(1, settings.photons_primary / 2)),
-      photons_per_order_(std::max(1, settings.photons_per_order / 2)),
+      chain_share_(settings.photon_noise_target > 0.0 ? settings.photon_pilot_share : 1.0),
+      photons_primary_(std::max(1, static_cast<int>(std::lround(0.5 * chain_share_ * settings.photons_primary)))),
+      photons_per_order_(std::max(1, static_cast<int>(std::lround(0.5 * chain_share_ * settings.photons_per_order)))),
       sum_(ctx.field_size, 0.0f),
       signed_sum_(ctx.field_size, 0.0f) {
     const TraceTables& tb = ctx.tables;

@@ -24,7 +24,7 @@ namespace firelook::bake {
 class ScatteredLightTracer {
   public:
     // Photons per chain: half of settings.photons_primary / photons_per_order, so two chains hold
-    // what those settings name.
+    // what those settings name; times photon_pilot_share when there is a noise target.
     ScatteredLightTracer(const TransportContext& ctx, const BasisModel& model, const TraceSettings& settings);
 
     // Traces `count` more chains (keep the total even: the noise field's expectation is zero only
@@ -33,6 +33,10 @@ class ScatteredLightTracer {
     void addChains(int count, const std::function<void(double)>& progress);
 
     int chains() const { return chains_; }
+    // The photons of one chain as a share of half the settings' photons (1, or photon_pilot_share).
+    double chainShare() const { return chain_share_; }
+    // Photons traced so far / the photons the settings name.
+    double photonMultiple() const { return 0.5 * chain_share_ * chains_; }
     // Sums over the chains: divide by chains() for the estimate and its noise sample.
     const std::vector<float>& sum() const { return sum_; }
     const std::vector<float>& signedSum() const { return signed_sum_; }
@@ -54,6 +58,7 @@ class ScatteredLightTracer {
     const TraceSettings& settings_;
     double albedo_;
     int counted_;
+    double chain_share_;
     int photons_primary_, photons_per_order_;
     std::unique_ptr<PhotonStartSampler> emission_sampler_, density_sampler_;
     std::vector<float> sum_, signed_sum_;

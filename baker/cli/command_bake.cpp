@@ -42,6 +42,7 @@ void writeReportJson(const std::string& path, const std::string& sequence, const
                           {"section_bytes", {{"u", f.u_bytes}, {"svt", f.svt_bytes}, {"depths", f.depth_bytes}}},
                           {"scattering_orders", f.scattering_orders},
                           {"photon_chains", f.photon_chains},
+                          {"photon_multiple", f.photon_multiple},
                           {"predicted_photon_noise", f.predicted_photon_noise},
                           {"trace_seconds", f.trace_seconds},
                           {"trace_stage_seconds",
@@ -206,11 +207,11 @@ void registerBakeCommand(CLI::App& app) {
                     "store err", "pred err", "alpha err", "KiB", "U KiB", "depth KiB", "orders", "photons", "noise %",
                     "trace s", "svd s", sized ? "      q" : "");
         for (const bake::FrameBakeReport& f : report.frames) {
-            std::printf("%6d %5d %10.2e %10.2e %10.2e %9.1e %9.1f %9.1f %9.1f %7d %7.1fx %8.2f %9.1f %9.1f", f.frame,
+            std::printf("%6d %5d %10.2e %10.2e %10.2e %9.1e %9.1f %9.1f %9.1f %7d %7.2fx %8.2f %9.1f %9.1f", f.frame,
                         f.rank, f.truncation_error, f.quantisation_error,
                         std::hypot(f.truncation_error, f.quantisation_error), f.alpha_storage_bound,
                         (f.u_bytes + f.svt_bytes + f.depth_bytes) / 1024.0, f.u_bytes / 1024.0, f.depth_bytes / 1024.0,
-                        f.scattering_orders, 0.5 * f.photon_chains, 100.0 * f.predicted_photon_noise, f.trace_seconds,
+                        f.scattering_orders, f.photon_multiple, 100.0 * f.predicted_photon_noise, f.trace_seconds,
                         f.compress_seconds);
             if (sized) std::printf(" %6.3f", f.quality_scale);
             const double noise_target = config.trace.photon_noise_target;

@@ -46,7 +46,7 @@ TEST(BakeConfig, AppliesEveryKey) {
         "temperature_offset": -273,
         "axes": {"temperature_threshold": [1, 2], "smoke_extinction": 3, "flame_extinction": [0.5, 1]},
         "trace": {"cell_voxels": 2, "photons_primary": 100, "photons_per_order": 50, "max_orders": 3,
-                  "order_tolerance": 0.01, "step_voxels": 0.25},
+                  "order_tolerance": 0.01, "step_voxels": 0.25, "photon_pilot_share": 0.5},
         "compression": {"target_relative_error": 0.01, "max_rank": 7}
     })");
     EXPECT_EQ(c.frames, "2-5");
@@ -73,6 +73,7 @@ TEST(BakeConfig, AppliesEveryKey) {
     EXPECT_EQ(c.trace.max_orders, 3);
     EXPECT_EQ(c.trace.order_tolerance, 0.01);
     EXPECT_EQ(c.trace.step_voxels, 0.25);
+    EXPECT_EQ(c.trace.photon_pilot_share, 0.5);
     EXPECT_EQ(c.compression.target_relative_error, 0.01);
     EXPECT_EQ(c.compression.max_rank, 7);
 }
@@ -148,6 +149,8 @@ TEST(BakeConfig, ErrorsNameTheFileAndTheProblem) {
                 "geometric");
     expectError(R"({"axes": {"smoke_extinction": {"min": 1, "max": 2}}})", "count");
     expectError(R"({"trace": {"step_voxels": 0}})", "trace");
+    expectError(R"({"trace": {"photon_pilot_share": 0}})", "photon_pilot_share");
+    expectError(R"({"trace": {"photon_pilot_share": 1.5}})", "photon_pilot_share");
     expectError(R"({"up": "x"})", "up");
     expectError(R"({"camera": [0, 0, 10, 0, 0, 0]})", "camera");
 

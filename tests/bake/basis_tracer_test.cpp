@@ -395,12 +395,14 @@ TEST(BasisTracer, PredictedPhotonNoiseMatchesTheSpreadBetweenSeeds) {
 // The photon budget follows the target: two chains (the photons as set) when the prediction meets
 // it or there is none, more when it does not, never more than max_photon_scale times the photons;
 // and more chains predict less noise (1/sqrt(chains): 1/2 for 8 chains against 2, within the
-// predictions' own noise of ~25%).
+// predictions' own noise of ~25%). Whole chains (photon_pilot_share 1), as the pilot is tested below.
 TEST(BasisTracer, PhotonBudgetFollowsTheNoiseTarget) {
     ScatteringBox box;
     TraceSettings settings = fastTrace(5);
+    settings.photon_pilot_share = 1.0;
     const FrameBasis fixed = traceFrameBasis(box.medium, box.camera, box.model, settings);
     EXPECT_EQ(fixed.photon_chains, 2);
+    EXPECT_DOUBLE_EQ(fixed.photon_multiple, 1.0);
     ASSERT_GT(fixed.predicted_photon_noise, 0.0);
     settings.photon_noise_target = 2.0 * fixed.predicted_photon_noise;
     EXPECT_EQ(traceFrameBasis(box.medium, box.camera, box.model, settings).photon_chains, 2);
@@ -408,11 +410,46 @@ TEST(BasisTracer, PhotonBudgetFollowsTheNoiseTarget) {
     settings.max_photon_scale = 4;
     const FrameBasis scaled = traceFrameBasis(box.medium, box.camera, box.model, settings);
     EXPECT_EQ(scaled.photon_chains, 8);
+    EXPECT_DOUBLE_EQ(scaled.photon_multiple, 4.0);
     const double ratio = scaled.predicted_photon_noise / fixed.predicted_photon_noise;
     std::printf("[measured] predicted photon noise: 2 chains %.4f, 8 chains %.4f (ratio %.2f)\n",
                 fixed.predicted_photon_noise, scaled.predicted_photon_noise, ratio);
     EXPECT_GT(ratio, 0.5 * 0.7);
     EXPECT_LT(ratio, 0.5 * 1.3);
+}
+
+// Pilot chains of a quarter of the photons: a target the pilot already meets costs a quarter of the
+// photons; a target only the whole photons meet gets chains until about them (noise 2x the whole
+// photons' at the pilot: 2 * 2^2 = 8 quarter chains), and a prediction near the whole photons'
+// (within the predictions' own noise of ~25%); the cap stays max_photon_scale times the photons.
+// 8x fastTrace's photons: with 250 a quarter chain the noise grew faster than 1/sqrt(photons)
+// (2.9x the whole photons' instead of 2x) and the chains asked for with it.
+TEST(BasisTracer, PilotChainsCostWhatTheTargetAsks) {
+    ScatteringBox box;
+    TraceSettings settings = fastTrace(5);
+    settings.photons_primary = settings.photons_per_order = 16000;
+    settings.photon_pilot_share = 1.0;
+    const FrameBasis whole = traceFrameBasis(box.medium, box.camera, box.model, settings);
+    ASSERT_GT(whole.predicted_photon_noise, 0.0);
+    settings.photon_pilot_share = 0.25;
+    settings.photon_noise_target = 4.0 * whole.predicted_photon_noise;
+    const FrameBasis pilot = traceFrameBasis(box.medium, box.camera, box.model, settings);
+    EXPECT_EQ(pilot.photon_chains, 2);
+    EXPECT_DOUBLE_EQ(pilot.photon_multiple, 0.25);
+    settings.photon_noise_target = 1.05 * whole.predicted_photon_noise;
+    const FrameBasis grown = traceFrameBasis(box.medium, box.camera, box.model, settings);
+    std::printf("[measured] whole photons %.4f; pilot %.4f; grown to %d quarter chains: %.4f\n",
+                whole.predicted_photon_noise, pilot.predicted_photon_noise, grown.photon_chains,
+                grown.predicted_photon_noise);
+    EXPECT_GE(grown.photon_chains, 4);
+    EXPECT_LE(grown.photon_chains, 16);
+    EXPECT_DOUBLE_EQ(grown.photon_multiple, 0.25 * grown.photon_chains / 2.0);
+    EXPECT_LT(grown.predicted_photon_noise, 1.3 * whole.predicted_photon_noise);
+    settings.photon_noise_target = 1e-6;
+    settings.max_photon_scale = 2;
+    const FrameBasis capped = traceFrameBasis(box.medium, box.camera, box.model, settings);
+    EXPECT_EQ(capped.photon_chains, 16);
+    EXPECT_DOUBLE_EQ(capped.photon_multiple, 2.0);
 }
 
 }  // namespace
