@@ -184,10 +184,10 @@ bool emissionEditor(ViewerApp& app, FireSession& s, LookEdit& look) {
 }
 
 // The run-time light (fl_instance_set_light_direction): two angles in the camera's frame and its
-// irradiance; it takes the place of the six-way lights' irradiance of the look.
+// irradiance; it takes the place of the six-way or sphere lights' irradiance of the look.
 void lightDirectionControl(ViewerApp& app, FireSession& s) {
     LightDirection light = s.lightDirection();
-    bool changed = ImGui::Checkbox("light from a direction (six-way lights)", &light.enabled);
+    bool changed = ImGui::Checkbox("light from a direction (six-way or sphere lights)", &light.enabled);
     changed |= ImGui::SliderFloat("azimuth", &light.azimuth_degrees, -180.0f, 180.0f, "%.0f deg");
     changed |= ImGui::SliderFloat("elevation", &light.elevation_degrees, -90.0f, 90.0f, "%.0f deg");
     ImGui::Text("irradiance");
@@ -228,7 +228,7 @@ void lookPanel(ViewerApp& app, UiState& ui, FireSession& s) {
         changed |= colourIntensity(id, look.lights[l]);
     }
     if (changed) app.editLook(look);
-    if (s.hasSixWayLights()) lightDirectionControl(app, s);
+    if (s.hasRelightLights()) lightDirectionControl(app, s);
 
     ImGui::InputText("##lookpath", &ui.look_path);
     ImGui::SameLine();
