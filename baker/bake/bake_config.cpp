@@ -202,9 +202,10 @@ void applyLightsChoice(SceneOptions& scene, const std::string& lights) {
         if (lights == "sphere:" + std::to_string(n)) scene.sphere_lights = n;
     if (lights == "sphere") scene.sphere_lights = kDefaultSphereLights;
     if (scene.sphere_lights == 0)
-        throw Error(ErrorCode::InvalidArgument,
-                    "lights must be \"scene\", \"six-way\", \"sphere\", \"sphere:12\" or \"sphere:42\", not \"" + lights +
-                        "\"");
+        throw Error(
+            ErrorCode::InvalidArgument,
+            "lights must be \"scene\", \"six-way\", \"sphere\", \"sphere:12\" or \"sphere:42\", not \"" +
+                lights + "\"");
 }
 
 std::string lightsChoiceName(const SceneOptions& scene) {

@@ -125,7 +125,8 @@ DescribedBake describeDerivedBake(const vdb::VdbSequence& sequence, const BakeCo
         look.light_irradiance = defaultLook().light_irradiance;
     look.light_irradiance.resize(scene.light_directions.size(), Rgb(1.0f));
     // The six-way or sphere lights are off by default, so a default render shows the scene's lights alone.
-    for (size_t l = std::max(d.relightFirstLight(), 0); d.relightFirstLight() >= 0 && l < look.light_irradiance.size(); ++l)
+    for (size_t l = std::max(d.relightFirstLight(), 0);
+         d.relightFirstLight() >= 0 && l < look.light_irradiance.size(); ++l)
         look.light_irradiance[l] = Rgb(0.0f);
     d.default_look_json = lookToJson(look);
     return out;

@@ -20,7 +20,8 @@ ScatteredLightTracer::ScatteredLightTracer(const TransportContext& ctx, const Ba
     : ctx_(ctx),
       settings_(settings),
       albedo_(model.albedo),
-      counted_(model.relightFirstLight() >= 0 ? ctx.tables.bins + model.relightFirstLight() : ctx.tables.columns),
+      counted_(model.relightFirstLight() >= 0 ? ctx.tables.bins + model.relightFirstLight()
+                                              : ctx.tables.columns),
       photons_primary_(std::max(1, settings.photons_primary / 2)),
       photons_per_order_(std::max(1, settings.photons_per_order / 2)),
       sum_(ctx.field_size, 0.0f),

@@ -37,19 +37,22 @@ void registerReferenceCommand(CLI::App& app) {
     cmd->add_option("--seed", args->seed, "random seed")->capture_default_str();
     addOutputOption(*cmd, args->out, "output image (.exr or .png)")->required();
     addSceneFlags(*cmd, args->scene);
-    addLightDirectionFlags(*cmd, args->light,
-                           "in place of the six-way or sphere lights (needs --lights six-way or sphere, as the "
-                           "bake it judges)");
+    addLightDirectionFlags(
+        *cmd, args->light,
+        "in place of the six-way or sphere lights (needs --lights six-way or sphere, as the "
+        "bake it judges)");
     cmd->callback([cmd, args] {
         const bake::BakeConfig config = makeBakeConfig(*cmd, args->scene);
         const vdb::VdbSequence sequence = vdb::VdbSequence::open(args->sequence, config.read);
         const bake::SceneSetup scene = bake::resolveScene(sequence, config.scene);
         const std::vector<basis::RunTimeLight> lights = runTimeLights(args->light);
-        const int first = scene.six_way_first_light >= 0 ? scene.six_way_first_light : scene.sphere_first_light;
+        const int first =
+            scene.six_way_first_light >= 0 ? scene.six_way_first_light : scene.sphere_first_light;
         if (!lights.empty() && first < 0)
-            throw Error(ErrorCode::InvalidArgument,
-                        "--light-dir takes the place of the six-way or sphere lights: pass --lights six-way or "
-                        "--lights sphere");
+            throw Error(
+                ErrorCode::InvalidArgument,
+                "--light-dir takes the place of the six-way or sphere lights: pass --lights six-way or "
+                "--lights sphere");
         const basis::BakeDescription d = bake::describeBake(sequence, config, scene);
         const Look look = args->look.empty() ? parseLook(d.default_look_json, "default look") : loadLook(args->look);
         LookModel model = makeLookModel(look, d.bins, d.rbf_width, d.light_directions);

@@ -14,11 +14,13 @@ void addSceneFlags(CLI::App& command, SceneFlags& flags) {
         ->capture_default_str();
     command.add_option("--bins", flags.bins, "number of temperature bins")->check(CLI::Range(1, 256))->capture_default_str();
     command.add_option("--config", flags.config, "bake settings JSON (docs/bake-config.md)")->check(CLI::ExistingFile);
-    command.add_option("--lights", flags.lights,
-                        "six-way: add six camera-relative lights (right, top, back, left, bottom, front), off in "
-                        "the default look (docs/cli.md, \"Six-way lights\"); sphere, sphere:12 or sphere:42: that "
-                        "many camera-relative lights on a geodesic sphere (42 for sphere), off in the default "
-                        "look, to relight from any direction (basis/sphere_lights.h)")
+    command
+        .add_option(
+            "--lights", flags.lights,
+            "six-way: add six camera-relative lights (right, top, back, left, bottom, front), off in "
+            "the default look (docs/cli.md, \"Six-way lights\"); sphere, sphere:12 or sphere:42: that "
+            "many camera-relative lights on a geodesic sphere (42 for sphere), off in the default "
+            "look, to relight from any direction (basis/sphere_lights.h)")
         ->check(CLI::IsMember({"scene", "six-way", "sphere", "sphere:12", "sphere:42"}))
         ->capture_default_str();
     addSequenceFlags(command, flags.sequence);

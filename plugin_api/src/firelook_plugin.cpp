@@ -999,9 +999,10 @@ FIRELOOK_API fl_result fl_package_get_six_way_lights(fl_package h, int32_t* out_
 namespace {
 void requireRelightLights(const world::Package& p) {
     if (p.description().relightFirstLight() < 0)
-        fail(ErrorCode::NotFound, p.name() +
-                                      ": baked without six-way or sphere lights (firelook bake --lights six-way or "
-                                      "--lights sphere)");
+        fail(ErrorCode::NotFound,
+             p.name() +
+                 ": baked without six-way or sphere lights (firelook bake --lights six-way or "
+                 "--lights sphere)");
 }
 
 basis::RunTimeLight runTimeLight(const fl_light_direction_desc& d) {
@@ -1012,7 +1013,8 @@ basis::RunTimeLight runTimeLight(const fl_light_direction_desc& d) {
 }
 }  // namespace
 
-FIRELOOK_API fl_result fl_package_get_relight_lights(fl_package h, int32_t* out_first_light, int32_t* out_count) {
+FIRELOOK_API fl_result fl_package_get_relight_lights(fl_package h, int32_t* out_first_light,
+                                                     int32_t* out_count) {
     return guarded("fl_package_get_relight_lights", [&] {
         checkPointer(out_first_light, "out_first_light");
         checkPointer(out_count, "out_count");
@@ -1036,7 +1038,8 @@ FIRELOOK_API fl_result fl_instance_set_light_direction(fl_world w, fl_instance i
     });
 }
 
-FIRELOOK_API fl_result fl_instance_set_light_directions(fl_world w, fl_instance i, const fl_light_direction_desc* lights,
+FIRELOOK_API fl_result fl_instance_set_light_directions(fl_world w, fl_instance i,
+                                                        const fl_light_direction_desc* lights,
                                                         uint32_t count) {
     return guarded("fl_instance_set_light_directions", [&] {
         const WorldInstance wi = findInstance(w, i);

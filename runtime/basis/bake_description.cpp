@@ -96,10 +96,11 @@ BakeDescription parseBakeDescription(const std::string& json_text, const std::st
             d.sphere_first_light = sphere.at("first").get<int>();
             d.sphere_light_count = sphere.at("count").get<int>();
             d.sphere_triangles = sphere.at("triangles").get<std::vector<std::array<int, 3>>>();
-            const std::string interpolation = sphere.value("interpolation", std::string("spherical barycentric"));
+            const std::string interpolation =
+                sphere.value("interpolation", std::string("spherical barycentric"));
             if (interpolation != "spherical barycentric")
-                throw Error(ErrorCode::InvalidArgument,
-                            "sphere_lights.interpolation \"" + interpolation + "\" is not \"spherical barycentric\"");
+                throw Error(ErrorCode::InvalidArgument, "sphere_lights.interpolation \"" + interpolation +
+                                                            "\" is not \"spherical barycentric\"");
             if (d.six_way_first_light >= 0)
                 throw Error(ErrorCode::InvalidArgument, "six_way_lights and sphere_lights together");
             if (d.sphere_first_light < 0 || d.sphere_light_count < 4 ||
@@ -108,11 +109,13 @@ BakeDescription parseBakeDescription(const std::string& json_text, const std::st
                             "sphere_lights must name 4 or more of the lights (first, count)");
             // A closed triangulation of N points on the sphere has 2N - 4 triangles (Euler).
             if (d.sphere_triangles.size() != static_cast<size_t>(2 * d.sphere_light_count - 4))
-                throw Error(ErrorCode::InvalidArgument, "sphere_lights.triangles must be 2 count - 4 triangles");
+                throw Error(ErrorCode::InvalidArgument,
+                            "sphere_lights.triangles must be 2 count - 4 triangles");
             for (const std::array<int, 3>& t : d.sphere_triangles)
                 for (int v : t)
                     if (v < 0 || v >= d.sphere_light_count)
-                        throw Error(ErrorCode::InvalidArgument, "sphere_lights.triangles names a light past count");
+                        throw Error(ErrorCode::InvalidArgument,
+                                    "sphere_lights.triangles names a light past count");
         }
         d.width = j.at("width").get<int>();
         d.height = j.at("height").get<int>();

@@ -4,10 +4,9 @@
 #pragma once
 
 #include <array>
+#include <glm/vec3.hpp>
 #include <string>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 #include "basis/parameter_grid.h"
 #include "look/look_model.h"
@@ -42,7 +41,9 @@ struct BasisModel {
 
     // The lights a run-time light direction is made of (relight.h): the six-way or the sphere
     // lights, as [first, first + count); first is -1 (and count 0) without either.
-    int relightFirstLight() const { return six_way_first_light >= 0 ? six_way_first_light : sphere_first_light; }
+    int relightFirstLight() const {
+        return six_way_first_light >= 0 ? six_way_first_light : sphere_first_light;
+    }
     int relightLightCount() const;
 
     int columnsPerPoint() const { return bins.count + static_cast<int>(light_directions.size()); }

@@ -40,10 +40,11 @@ namespace {
 
 void requireRelightLights(const BakeDescription& d, const std::string& package_name) {
     if (d.relightFirstLight() < 0)
-        throw Error(ErrorCode::InvalidArgument,
-                    package_name +
-                        ": baked without six-way or sphere lights; a light direction chosen at run time needs a "
-                        "bake with --lights six-way or --lights sphere");
+        throw Error(
+            ErrorCode::InvalidArgument,
+            package_name +
+                ": baked without six-way or sphere lights; a light direction chosen at run time needs a "
+                "bake with --lights six-way or --lights sphere");
 }
 
 }  // namespace
@@ -52,8 +53,8 @@ std::vector<double> packageRelightWeights(const BakeDescription& d, const glm::d
                                           const std::string& package_name) {
     requireRelightLights(d, package_name);
     if (d.six_way_first_light >= 0) {
-        const std::span<const glm::dvec3, kSixWayLightCount> six_way(d.light_directions.data() + d.six_way_first_light,
-                                                                     kSixWayLightCount);
+        const std::span<const glm::dvec3, kSixWayLightCount> six_way(
+            d.light_directions.data() + d.six_way_first_light, kSixWayLightCount);
         const std::array<double, kSixWayLightCount> w = relightWeights(six_way, direction);
         return {w.begin(), w.end()};
     }
@@ -63,8 +64,8 @@ std::vector<double> packageRelightWeights(const BakeDescription& d, const glm::d
         const glm::dvec3& t = d.light_directions[static_cast<size_t>(d.sphere_first_light + i)];
         const double length = glm::length(t);
         if (!std::isfinite(length) || !(length > 0.0))
-            throw Error(ErrorCode::InvalidArgument, package_name + ": sphere light " + std::to_string(i) +
-                                                        " has no direction");
+            throw Error(ErrorCode::InvalidArgument,
+                        package_name + ": sphere light " + std::to_string(i) + " has no direction");
         sphere.push_back(t / length);
     }
     try {
@@ -86,8 +87,8 @@ std::vector<Rgb> relightIrradiance(const BakeDescription& d, std::span<const Run
     return out;
 }
 
-void applyRunTimeLights(const BakeDescription& d, std::span<const RunTimeLight> lights, const std::string& package_name,
-                        std::span<Rgb> light_irradiance) {
+void applyRunTimeLights(const BakeDescription& d, std::span<const RunTimeLight> lights,
+                        const std::string& package_name, std::span<Rgb> light_irradiance) {
     const std::vector<Rgb> columns = relightIrradiance(d, lights, package_name);
     if (light_irradiance.size() != d.light_directions.size())
         throw Error(ErrorCode::InvalidArgument,

@@ -12,11 +12,10 @@
 #pragma once
 
 #include <array>
+#include <glm/vec3.hpp>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 #include "basis/bake_description.h"
 #include "basis/six_way_lights.h"

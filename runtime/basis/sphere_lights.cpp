@@ -24,7 +24,8 @@ GeodesicSphere icosahedron() {
         for (int i = 0; i < 5; ++i) {
             const double azimuth = 2.0 * pi * (i + 0.5 * ring) / 5.0;
             const double y = ring == 0 ? std::sin(elevation) : -std::sin(elevation);
-            s.axes.push_back({std::cos(elevation) * std::sin(azimuth), y, std::cos(elevation) * std::cos(azimuth)});
+            s.axes.push_back(
+                {std::cos(elevation) * std::sin(azimuth), y, std::cos(elevation) * std::cos(azimuth)});
         }
     s.axes.push_back({0.0, -1.0, 0.0});
     const auto upper = [](int i) { return 1 + (i % 5); };
@@ -78,7 +79,8 @@ std::vector<glm::dvec3> sphereTravelDirections(const glm::dmat4& world_from_came
     return out;
 }
 
-std::vector<double> sphereWeights(std::span<const glm::dvec3> directions, std::span<const std::array<int, 3>> triangles,
+std::vector<double> sphereWeights(std::span<const glm::dvec3> directions,
+                                  std::span<const std::array<int, 3>> triangles,
                                   const glm::dvec3& direction) {
     const double length = glm::length(direction);
     if (!std::isfinite(length) || !(length > 0.0))
@@ -93,21 +95,22 @@ std::vector<double> sphereWeights(std::span<const glm::dvec3> directions, std::s
     for (const std::array<int, 3>& t : triangles) {
         for (int v : t)
             if (v < 0 || v >= n)
-                throw Error(ErrorCode::InvalidArgument, "a sphere triangle names light " + std::to_string(v) + " of " +
-                                                            std::to_string(n));
+                throw Error(ErrorCode::InvalidArgument, "a sphere triangle names light " + std::to_string(v) +
+                                                            " of " + std::to_string(n));
         const glm::dvec3 &a = directions[t[0]], &b = directions[t[1]], &c = directions[t[2]];
         const double det = glm::dot(a, glm::cross(b, c));
         if (!(std::abs(det) > 0.0)) continue;  // a degenerate triangle holds nothing
-        const std::array<double, 3> k = {glm::dot(d, glm::cross(b, c)) / det, glm::dot(d, glm::cross(c, a)) / det,
+        const std::array<double, 3> k = {glm::dot(d, glm::cross(b, c)) / det,
+                                         glm::dot(d, glm::cross(c, a)) / det,
                                          glm::dot(d, glm::cross(a, b)) / det};
         const double smallest = std::min({k[0], k[1], k[2]});
         if (smallest > best) best = smallest, coefficients = k, holder = &t;
     }
     // 1e-9: rounding of a direction on an edge or at a vertex; a gap in the cover is far larger.
     if (holder == nullptr || best < -1e-9)
-        throw Error(ErrorCode::InvalidArgument, "the sphere lights' triangles hold no light travelling along (" +
-                                                    std::to_string(d.x) + ", " + std::to_string(d.y) + ", " +
-                                                    std::to_string(d.z) + ")");
+        throw Error(ErrorCode::InvalidArgument,
+                    "the sphere lights' triangles hold no light travelling along (" + std::to_string(d.x) +
+                        ", " + std::to_string(d.y) + ", " + std::to_string(d.z) + ")");
     double sum = 0.0;
     for (double& k : coefficients) sum += (k = std::max(k, 0.0));
     std::vector<double> w(static_cast<size_t>(n), 0.0);

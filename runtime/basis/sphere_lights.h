@@ -11,11 +11,10 @@
 #pragma once
 
 #include <array>
-#include <span>
-#include <vector>
-
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
+#include <span>
+#include <vector>
 
 namespace firelook::basis {
 
@@ -23,8 +22,8 @@ namespace firelook::basis {
 inline constexpr std::array<int, 2> kSphereLightCounts = {12, 42};
 
 struct GeodesicSphere {
-    std::vector<glm::dvec3> axes;                 // unit, from the volume towards each light
-    std::vector<std::array<int, 3>> triangles;    // counter-clockwise seen from outside; 2N - 4 of them
+    std::vector<glm::dvec3> axes;               // unit, from the volume towards each light
+    std::vector<std::array<int, 3>> triangles;  // counter-clockwise seen from outside; 2N - 4 of them
 };
 
 // The sphere of `count` lights (one of kSphereLightCounts), camera frame. An InvalidArgument Error

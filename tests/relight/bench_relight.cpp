@@ -79,7 +79,8 @@ Look darkLook(const basis::BakeDescription& d) {
 }
 
 // The image of relight light `i` alone at unit irradiance.
-render::RenderImage lightAlone(const basis::BakeDescription& d, const basis::ResidentFrame& frame, Look look, int i) {
+render::RenderImage lightAlone(const basis::BakeDescription& d, const basis::ResidentFrame& frame, Look look,
+                               int i) {
     look.light_irradiance[static_cast<size_t>(d.relightFirstLight() + i)] = Rgb(1.0f);
     render::RenderImage image{d.width, d.height, std::vector<float>(static_cast<size_t>(d.pixelCount()) * 4)};
     basis::renderLookImage(d, frame, look, image.rgba);
@@ -162,8 +163,8 @@ std::vector<double> cosinePower(const std::vector<glm::dvec3>& baked, const glm:
     return w;
 }
 
-int judge(const std::string& package, int frame_number, const std::string& look_path, const std::string& list_path,
-          const std::string& prefix) {
+int judge(const std::string& package, int frame_number, const std::string& look_path,
+          const std::string& list_path, const std::string& prefix) {
     const basis::BasisReader p = basis::BasisReader::open(package);
     const basis::BakeDescription& d = p.description();
     const int first = d.relightFirstLight(), count = d.relightLightCount();
@@ -171,7 +172,8 @@ int judge(const std::string& package, int frame_number, const std::string& look_
     const basis::ResidentFrame frame = p.loadResidentFrame(frame_number, std::pmr::get_default_resource());
     const Look look = loadLook(look_path);
     std::vector<glm::dvec3> baked;
-    for (int i = 0; i < count; ++i) baked.push_back(glm::normalize(d.light_directions[static_cast<size_t>(first + i)]));
+    for (int i = 0; i < count; ++i)
+        baked.push_back(glm::normalize(d.light_directions[static_cast<size_t>(first + i)]));
     std::vector<render::RenderImage> single;
     for (int i = 0; i < count; ++i) single.push_back(lightAlone(d, frame, look, i));
     // The weightings: "used" is the runtime's (relight.h); the others are measured beside it.
@@ -187,8 +189,9 @@ int judge(const std::string& package, int frame_number, const std::string& look_
             weightings.emplace_back("cos^" + std::to_string(static_cast<int>(e)),
                                     [&, e](const glm::dvec3& x) { return cosinePower(baked, x, e); });
         for (int bands = 2; bands * bands <= count && bands <= 6; ++bands)
-            weightings.emplace_back("sh-l" + std::to_string(bands - 1),
-                                    [&, bands](const glm::dvec3& x) { return harmonicWeights(baked, x, bands); });
+            weightings.emplace_back("sh-l" + std::to_string(bands - 1), [&, bands](const glm::dvec3& x) {
+                return harmonicWeights(baked, x, bands);
+            });
     }
     weightings.emplace_back("nearest", [&](const glm::dvec3& x) {
         std::vector<double> w(static_cast<size_t>(count), 0.0);
@@ -234,7 +237,8 @@ int judge(const std::string& package, int frame_number, const std::string& look_
                 for (int i = 0; i < count; ++i) m(3 * q + c, i) = single[i].rgba[4 * q + c];
                 rhs[static_cast<size_t>(3 * q + c)] = reference.rgba[4 * q + c];
             }
-        errors["nnls-bound"] = render::relativeRmse(combine(single, detail::nonNegativeLeastSquares(m, rhs)), reference);
+        errors["nnls-bound"] =
+            render::relativeRmse(combine(single, detail::nonNegativeLeastSquares(m, rhs)), reference);
         std::printf("%-14s %7.2f%%", name.c_str(), 100.0 * noise);
         for (const std::string& method : methods) {
             const double e = errors[method];
@@ -248,7 +252,8 @@ int judge(const std::string& package, int frame_number, const std::string& look_
         std::printf("\n");
     }
     if (raw.empty()) return 0;
-    std::printf("random directions: %zu; reference noise median %.2f%%\n", raw["used"].size(), 100.0 * median(noises));
+    std::printf("random directions: %zu; reference noise median %.2f%%\n", raw["used"].size(),
+                100.0 * median(noises));
     for (const std::string& m : methods)
         std::printf("%-11s noise removed: median %.2f%%, worst %.2f%%; raw: median %.2f%%, worst %.2f%%\n", m.c_str(),
                     100.0 * median(corrected[m]), 100.0 * *std::max_element(corrected[m].begin(), corrected[m].end()),
@@ -268,7 +273,8 @@ int main(int argc, char** argv) {
             saveLook(argv[3], darkLook(p.description()));
             return 0;
         }
-        if (mode == "judge" && argc == 7) return judge(argv[2], std::stoi(argv[3]), argv[4], argv[5], argv[6]);
+        if (mode == "judge" && argc == 7)
+            return judge(argv[2], std::stoi(argv[3]), argv[4], argv[5], argv[6]);
         std::fprintf(stderr,
                      "usage: bench_relight directions N SEED | baked PACKAGE | look PACKAGE OUT.json | "
                      "judge PACKAGE FRAME LOOK.json DIRECTIONS.txt REF_PREFIX\n");

@@ -345,7 +345,8 @@ class RelightSphereApi : public RelightApi {
         const basis::BakeDescription& d = p.description();
         Look look = parseLook(d.default_look_json, "default");
         std::copy(lights.begin(), lights.end(), look.light_irradiance.begin() + 1);
-        const basis::ResidentFrame frame = p.loadResidentFrame(d.frames[0].frame, std::pmr::get_default_resource());
+        const basis::ResidentFrame frame =
+            p.loadResidentFrame(d.frames[0].frame, std::pmr::get_default_resource());
         std::vector<float> rgba(static_cast<size_t>(d.pixelCount()) * 4);
         basis::renderLookImage(d, frame, look, rgba);
         return rgba;
@@ -515,22 +516,25 @@ TEST(RelightCli, RenderSeveralLightDirections) {
     const glm::dvec3 a(0.3, -0.8, 0.45), b(-0.6, 0.2, -0.5);
     const Rgb ea(1.0f, 2.0f, 0.5f), eb(0.25f, 0.5f, 3.0f);
     Look look = parseLook(p.description().default_look_json, "default");
-    const std::vector<double> wa = basis::sphereWeights(sphere, triangles, a), wb = basis::sphereWeights(sphere, triangles, b);
+    const std::vector<double> wa = basis::sphereWeights(sphere, triangles, a),
+                              wb = basis::sphereWeights(sphere, triangles, b);
     for (int k = 0; k < kSphere; ++k)
         look.light_irradiance[1 + k] = static_cast<float>(wa[k]) * ea + static_cast<float>(wb[k]) * eb;
     saveLook(dir / "two.json", look);
     const auto run = [&](const std::string& args) { return firelook::testing::runFirelook(dir, args); };
     auto r = run("render sphere.firelook --frame 1 --look two.json -o look.exr");
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    r = run("render sphere.firelook --frame 1 --light-dir 0.3,-0.8,0.45 --light-irradiance 1,2,0.5 "
+    r =
+        run("render sphere.firelook --frame 1 --light-dir 0.3,-0.8,0.45 --light-irradiance 1,2,0.5 "
             "--light-dir -0.6,0.2,-0.5 --light-irradiance 0.25,0.5,3 -o dirs.exr");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const image::ImageRGBA x = image::readImage(dir / "look.exr"), y = image::readImage(dir / "dirs.exr");
     for (size_t k = 0; k < x.pixels.size(); ++k)
         ASSERT_NEAR(x.pixels[k], y.pixels[k], 1e-6f * maxAbs(x.pixels)) << k;  // float sums in another order
-    for (const char* bad : {"--light-dir 0,1,0 --light-dir 1,0,0 --light-irradiance 1,1,1 --light-irradiance 1,1,1 "
-                            "--light-irradiance 1,1,1",
-                            "--light-dir 0,1", "--light-dir 0,1,0,1", "--light-dir a,b,c"}) {
+    for (const char* bad :
+         {"--light-dir 0,1,0 --light-dir 1,0,0 --light-irradiance 1,1,1 --light-irradiance 1,1,1 "
+          "--light-irradiance 1,1,1",
+          "--light-dir 0,1", "--light-dir 0,1,0,1", "--light-dir a,b,c"}) {
         r = run(std::string("render sphere.firelook --frame 1 ") + bad + " -o bad.exr");
         EXPECT_NE(r.exit_code, 0) << bad;
         EXPECT_EQ(firelook::testing::lines(r.err).size(), 1u) << r.err;

@@ -38,7 +38,7 @@ glm::dmat4 tiltedCamera() {
 }
 
 std::vector<double> sphereWeightsOf(const basis::GeodesicSphere& s, const std::vector<glm::dvec3>& travel,
-                            const glm::dvec3& d) {
+                                    const glm::dvec3& d) {
     return basis::sphereWeights(travel, s.triangles, d);
 }
 
@@ -67,7 +67,8 @@ TEST_P(SphereLights, AClosedGeodesicSphere) {
     // sphere's 31.7 to 36.0 (its midpoints are pushed out onto the sphere).
     double shortest = 180.0, longest = 0.0;
     for (const auto& [edge, count] : edges) {
-        const double angle = std::acos(glm::dot(s.axes[edge.first], s.axes[edge.second])) * 180.0 / std::numbers::pi;
+        const double angle =
+            std::acos(glm::dot(s.axes[edge.first], s.axes[edge.second])) * 180.0 / std::numbers::pi;
         shortest = std::min(shortest, angle), longest = std::max(longest, angle);
     }
     EXPECT_GT(shortest, n == 12 ? 63.0 : 31.0);
@@ -106,11 +107,13 @@ TEST_P(SphereLights, WeightsAreBarycentricExactAtBakedDirectionsAndContinuous) {
     // turned (a coefficient's gradient is 1 / the triangle's height, 1.0 rad for 12 lights and 0.48
     // for 42, so about 2 per radian; 10 leaves room for the normalisation).
     for (int k = 0; k < 300; ++k) {
-        const glm::dvec3 d = k < n ? glm::normalize(travel[k] + 1e-6 * randomUnit(random)) : randomUnit(random);
+        const glm::dvec3 d =
+            k < n ? glm::normalize(travel[k] + 1e-6 * randomUnit(random)) : randomUnit(random);
         const glm::dvec3 side = glm::normalize(glm::cross(d, randomUnit(random)));
         for (double angle : {1e-3, 1e-5}) {
             const std::vector<double> a = sphereWeightsOf(s, travel, d),
-                                      b = sphereWeightsOf(s, travel, std::cos(angle) * d + std::sin(angle) * side);
+                                      b = sphereWeightsOf(s, travel,
+                                                          std::cos(angle) * d + std::sin(angle) * side);
             double most = 0.0;
             for (int i = 0; i < n; ++i) most = std::max(most, std::abs(a[i] - b[i]));
             EXPECT_LE(most, 10.0 * angle) << k;
@@ -124,7 +127,8 @@ TEST(SphereLightsRefusals, BadCountsDirectionsAndTriangles) {
     EXPECT_ERROR_CODE(ErrorCode::InvalidArgument, basis::geodesicSphere(6));
     EXPECT_ERROR_CODE(ErrorCode::InvalidArgument, basis::geodesicSphere(0));
     basis::GeodesicSphere s = basis::geodesicSphere(12);
-    for (const glm::dvec3& bad : {glm::dvec3(0.0), glm::dvec3(kNotANumber, 0, 1), glm::dvec3(1e300, 1e300, 0)})
+    for (const glm::dvec3& bad :
+         {glm::dvec3(0.0), glm::dvec3(kNotANumber, 0, 1), glm::dvec3(1e300, 1e300, 0)})
         EXPECT_ERROR_CODE(ErrorCode::InvalidArgument, basis::sphereWeights(s.axes, s.triangles, bad));
     // A hole in the cover: the direction through the missing triangle's centre has no triangle.
     const std::array<int, 3> gone = s.triangles.back();
@@ -151,7 +155,8 @@ TEST(SphereRelight, SeveralLightsAreTheSumOfEach) {
     const basis::BakeDescription d = sphereDescription();
     EXPECT_EQ(d.relightFirstLight(), 1);
     EXPECT_EQ(d.relightLightCount(), 42);
-    const basis::RunTimeLight a{{0.2, -0.9, 0.4}, Rgb(1.0f, 0.5f, 0.25f)}, b{{-1.0, 0.1, 0.3}, Rgb(0.0f, 2.0f, 1.0f)};
+    const basis::RunTimeLight a{{0.2, -0.9, 0.4}, Rgb(1.0f, 0.5f, 0.25f)},
+        b{{-1.0, 0.1, 0.3}, Rgb(0.0f, 2.0f, 1.0f)};
     const std::vector<basis::RunTimeLight> both = {a, b};
     const std::vector<Rgb> sum = basis::relightIrradiance(d, both, "pkg");
     const std::vector<Rgb> only_a = basis::relightIrradiance(d, std::span(&a, 1), "pkg");
@@ -192,7 +197,8 @@ TEST(SphereRelight, DescriptionRecordsTheSphere) {
     EXPECT_EQ(r.sphere_triangles, d.sphere_triangles);
     EXPECT_EQ(r.six_way_first_light, -1);
     const auto corrupt = [&](const basis::BakeDescription& x) {
-        EXPECT_ERROR_CODE(ErrorCode::Corrupt, basis::parseBakeDescription(basis::bakeDescriptionToJson(x), "pkg"));
+        EXPECT_ERROR_CODE(ErrorCode::Corrupt,
+                          basis::parseBakeDescription(basis::bakeDescriptionToJson(x), "pkg"));
     };
     basis::BakeDescription x = d;
     x.sphere_triangles.pop_back();

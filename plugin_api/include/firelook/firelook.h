@@ -136,7 +136,7 @@ extern "C" {
     X(FL_ERROR_BUFFER_TOO_SMALL, -12) /* the needed size is reported through the size output */          \
     X(FL_ERROR_OUT_OF_MEMORY, -13)                                                                       \
     X(FL_ERROR_NO_DATA, -14)          /* output not enabled, or no fl_world_update since it was */       \
-    X(FL_ERROR_NOT_FOUND, -15)        /* no such frame, camera, six-way or sphere lights in the package */\
+    X(FL_ERROR_NOT_FOUND, -15)        /* no such frame, camera, six-way or sphere lights */              \
     X(FL_ERROR_LIMIT, -16)            /* too many objects of one kind */                                 \
     X(FL_ERROR_INTERNAL, -17)         /* a bug: please report with fl_last_error() */                     \
     X(FL_ERROR_CANCELLED, -18)        /* a progress callback asked to stop (fl_package_fit_look) */

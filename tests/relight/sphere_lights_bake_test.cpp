@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
-
 #include <nlohmann/json.hpp>
 
 #include "bake/bake_config.h"
@@ -15,12 +14,12 @@
 #include "bake/basis_tracer.h"
 #include "bake/scene_setup.h"
 #include "bake_test_support.h"
-#include "tiny_sample_bake.h"
 #include "basis/relight.h"
 #include "basis/sphere_lights.h"
 #include "common/error.h"
 #include "look/look.h"
 #include "reference/frame_medium.h"
+#include "tiny_sample_bake.h"
 #include "vdb/vdb_sequence.h"
 
 namespace firelook::bake {
@@ -30,7 +29,7 @@ glm::dmat4 worldFromCamera(const render::Camera& camera) {
     return glm::make_mat4(camera.parameters().world_from_camera.data());
 }
 
-// As the six-way lights (six_way_lights_test.cpp): photon paths and camera rays are drawn
+// As the six-way lights (tests/bake/six_way_lights_test.cpp): photon paths and camera rays are drawn
 // independently of the columns, and the orders' stopping test ignores the sphere columns.
 TEST(SphereLightsBake, LeaveEveryOtherColumnBitForBit) {
     const render::Medium medium = test::unitBox(2.0f, 0.6f);
@@ -80,7 +79,8 @@ TEST(SphereLightsBake, SettingsSceneAndDescription) {
     EXPECT_EQ(scene.sphere_first_light, 1);
     EXPECT_EQ(scene.six_way_first_light, -1);
     const std::vector<glm::dvec3> travel = basis::sphereTravelDirections(worldFromCamera(scene.camera), 12);
-    for (int i = 0; i < 12; ++i) EXPECT_NEAR(glm::length(scene.light_directions[1 + i] - travel[i]), 0.0, 1e-15);
+    for (int i = 0; i < 12; ++i)
+        EXPECT_NEAR(glm::length(scene.light_directions[1 + i] - travel[i]), 0.0, 1e-15);
     const basis::BakeDescription d = describeBake(sequence, config, scene);
     EXPECT_EQ(d.sphere_first_light, 1);
     EXPECT_EQ(d.sphere_light_count, 12);
@@ -88,7 +88,8 @@ TEST(SphereLightsBake, SettingsSceneAndDescription) {
     const Look look = parseLook(d.default_look_json, "sphere default look");
     ASSERT_EQ(look.light_irradiance.size(), 13u);
     EXPECT_NE(look.light_irradiance[0], Rgb(0.0f));
-    for (int l = 1; l < 13; ++l) EXPECT_EQ(look.light_irradiance[l], Rgb(0.0f)) << "sphere light " << l << " is on";
+    for (int l = 1; l < 13; ++l)
+        EXPECT_EQ(look.light_irradiance[l], Rgb(0.0f)) << "sphere light " << l << " is on";
     EXPECT_EQ(nlohmann::json::parse(configToJson(config)).at("lights"), "sphere:12");
     config.scene.six_way_lights = true;  // both at once
     EXPECT_THROW(resolveScene(sequence, config.scene), Error);
@@ -106,9 +107,9 @@ double relativeRmse(const std::vector<double>& image, const std::vector<double>&
 // Frame 6 of the bundled sample at 16x16, one grid point: the scene's lights are directions through
 // the centres of sphere triangles (the farthest from every baked light, where the interpolation is
 // worst), traced as columns beside the 42 sphere lights. The sphere lights weighted for each such
-// direction give its column within 2% (measured 0.7-1.1% here, 0.9-1.2% at 24x24; a direction away from a triangle's
-// centre does better, and the README's bar against the reference is 2% at worst); the nearest baked
-// light alone is about 3% off, so a lost interpolation fails.
+// direction give its column within 2% (measured 0.7-1.1% here, 0.9-1.2% at 24x24; a direction away from a
+// triangle's centre does better, and the README's bar against the reference is 2% at worst); the nearest
+// baked light alone is about 3% off, so a lost interpolation fails.
 TEST(SphereLightsBake, InterpolationReproducesADirectionBetweenBakedOnes) {
     const vdb::VdbSequence sequence = vdb::VdbSequence::open(FIRELOOK_SAMPLE_DIR);
     const render::Medium medium = reference::mediumFromFrame(sequence.load(6));
@@ -150,7 +151,8 @@ TEST(SphereLightsBake, InterpolationReproducesADirectionBetweenBakedOnes) {
         const int nearest = static_cast<int>(std::max_element(w.begin(), w.end()) - w.begin());
         const std::vector<double> direct = column(static_cast<int>(k));
         const double interpolated = relativeRmse(mixed, direct), alone = relativeRmse(baked[nearest], direct);
-        std::printf("triangle centre %zu: interpolated %.4f, nearest light alone %.4f\n", k, interpolated, alone);
+        std::printf("triangle centre %zu: interpolated %.4f, nearest light alone %.4f\n", k, interpolated,
+                    alone);
         EXPECT_LT(interpolated, 0.02) << k;
         EXPECT_GT(alone, 2.0 * interpolated) << k;
     }
