@@ -84,6 +84,12 @@ std::vector<Rgb> relightIrradiance(const BakeDescription& d, std::span<const Run
         const std::vector<double> w = packageRelightWeights(d, direction, package_name);
         for (size_t i = 0; i < out.size(); ++i) out[i] += static_cast<float>(w[i]) * light.irradiance;
     }
+    // Each light's share is at most its own irradiance, but a sum of huge ones can overflow; an
+    // infinite irradiance would give NaN where a column is 0.
+    for (const Rgb& e : out)
+        if (!std::isfinite(e.r) || !std::isfinite(e.g) || !std::isfinite(e.b))
+            throw Error(ErrorCode::InvalidArgument,
+                        package_name + ": the lights' irradiances add up past the float range");
     return out;
 }
 

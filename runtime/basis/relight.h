@@ -54,7 +54,8 @@ std::vector<double> packageRelightWeights(const BakeDescription& description, co
 
 // The run-time light columns' irradiance that stands for all of `lights` together: the sum over
 // the lights of their weights times their irradiance (no lights: all zero). Errors as
-// packageRelightWeights, and for a light with a negative or non-finite irradiance.
+// packageRelightWeights, and for a light with a negative or non-finite irradiance or a sum that
+// overflows the float range.
 std::vector<Rgb> relightIrradiance(const BakeDescription& description, std::span<const RunTimeLight> lights,
                                    const std::string& package_name);
 

@@ -307,8 +307,8 @@ void World::update(double dt) {
         frame_slot_[i] = p.slotAtOrBelow(frame_position_[i]);
     }
 
-    // 2. Keyframes, then a run-time light over the six-way or sphere lights. Each instance's keys live in
-    // their own allocations, so with many instances they come from far caches: their records are
+    // 2. Keyframes, then a run-time light over the six-way or sphere lights. Each instance's keys live
+    // in their own allocations, so with many instances they come from far caches: their records are
     // prefetched two strides ahead and the coefficients they point at one stride ahead.
     constexpr size_t kAhead = 8;
     for (size_t i = 0; i < n; ++i) {

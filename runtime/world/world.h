@@ -141,8 +141,8 @@ class World {
     void update(double dt);
     InstanceState state(InstanceHandle instance) const;
     // The look the instance shows at its frame position (the last update's, the package's first
-    // frame before any): sampledLook() of its keys (look_track.h), with a run-time light's six-way or sphere
-    // irradiance (setLightDirection). Allocates.
+    // frame before any): sampledLook() of its keys (look_track.h), with a run-time light's six-way or
+    // sphere irradiance (setLightDirection[s]). Allocates.
     Look look(InstanceHandle instance) const;
     // The frame the last update showed, in the cache's resident form: no decode, valid until the
     // next call that changes the world. Null until the first update after creation or setOutputs

@@ -177,6 +177,11 @@ TEST(SphereRelight, SeveralLightsAreTheSumOfEach) {
     // A bad light anywhere in the list refuses the whole list.
     const std::vector<basis::RunTimeLight> bad = {a, {{0.0, 0.0, 0.0}, Rgb(1.0f)}};
     EXPECT_ERROR_CODE(ErrorCode::InvalidArgument, basis::relightIrradiance(d, bad, "pkg"));
+    // Each irradiance is finite, their sum is not: refused rather than an infinite light (NaN where
+    // a column is 0).
+    const basis::RunTimeLight huge{d.light_directions[1], Rgb(3e38f)};  // a baked direction: weight 1
+    const std::vector<basis::RunTimeLight> overflow = {huge, huge};
+    EXPECT_ERROR_CODE(ErrorCode::InvalidArgument, basis::relightIrradiance(d, overflow, "pkg"));
     basis::BakeDescription plain;
     plain.light_directions = {{0.0, -1.0, 0.0}};
     EXPECT_ERROR_CODE(ErrorCode::InvalidArgument, basis::relightIrradiance(plain, both, "pkg"));
