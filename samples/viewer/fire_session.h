@@ -73,6 +73,8 @@ class FireSession {
 
     // The run-time light (only with six-way or sphere lights: hasRelightLights()). Throws ViewerError.
     bool hasRelightLights() const { return relight_first_light_ >= 0; }
+    int relightFirstLight() const { return relight_first_light_; }
+    int relightLightCount() const { return relight_count_; }
     const LightDirection& lightDirection() const { return light_direction_; }
     void setLightDirection(const LightDirection& light);
 
@@ -117,6 +119,7 @@ class FireSession {
     fl_instance_state state_ = fl_instance_state_defaults();
     std::vector<float> z_;
     int relight_first_light_ = -1;  // the first six-way or sphere light, -1 without them
+    int relight_count_ = 0;         // 6, or the sphere's 12 or 42
     double camera_rotation_[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // world from camera, columns; identity without a camera
     LightDirection light_direction_;
 };

@@ -220,7 +220,14 @@ void lookPanel(ViewerApp& app, UiState& ui, FireSession& s) {
     changed |= sliderDouble("k_f", look.flame_extinction, info.flame_extinction_min, info.flame_extinction_max);
     ImGui::Text("albedo %.3f (fixed by the bake)", look.albedo);
     changed |= emissionEditor(app, s, look);
+    // A sphere's lights (12 or 42) are set through the light-direction control, not one by one.
+    const bool sphere = s.hasRelightLights() && s.relightLightCount() > 6;
     for (size_t l = 0; l < look.lights.size(); ++l) {
+        if (sphere && static_cast<int>(l) == s.relightFirstLight())
+            ImGui::TextWrapped("lights %d-%d: the sphere's %d, lit by the light from a direction below",
+                               s.relightFirstLight(), s.relightFirstLight() + s.relightLightCount() - 1,
+                               s.relightLightCount());
+        if (sphere && static_cast<int>(l) >= s.relightFirstLight()) continue;
         char id[32];
         std::snprintf(id, sizeof id, "light %zu", l);
         ImGui::Text("%s", id);
