@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "basis/sphere_lights.h"
 #include "common/error.h"
 
 namespace firelook::bake {
@@ -60,11 +61,7 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         if (j.contains("scene")) c.scene.scene_path = j["scene"].get<std::string>();
         if (j.contains("fire_lights")) c.fire_lights = j["fire_lights"].get<bool>();
         if (j.contains("lights")) {
-            const std::string lights = j["lights"].get<std::string>();
-            if (lights != "scene" && lights != "six-way")
-                throw Error(ErrorCode::InvalidArgument,
-                            "lights must be \"scene\" or \"six-way\", not \"" + lights + "\"");
-            c.scene.six_way_lights = lights == "six-way";
+            applyLightsChoice(c.scene, j["lights"].get<std::string>());
         }
         if (j.contains("camera")) {
             const std::vector<double> camera = j["camera"].get<std::vector<double>>();
@@ -200,6 +197,26 @@ uint64_t parseByteSize(const std::string& text) {
     return static_cast<uint64_t>(value * scale);
 }
 
+void applyLightsChoice(SceneOptions& scene, const std::string& lights) {
+    scene.six_way_lights = lights == "six-way";
+    scene.sphere_lights = 0;
+    if (lights == "scene" || lights == "six-way") return;
+    for (int n : basis::kSphereLightCounts)
+        if (lights == "sphere:" + std::to_string(n)) scene.sphere_lights = n;
+    if (lights == "sphere") scene.sphere_lights = kDefaultSphereLights;
+    if (scene.sphere_lights == 0)
+        throw Error(
+            ErrorCode::InvalidArgument,
+            "lights must be \"scene\", \"six-way\", \"sphere\", \"sphere:12\" or \"sphere:42\", not \"" +
+                lights + "\"");
+}
+
+std::string lightsChoiceName(const SceneOptions& scene) {
+    if (scene.six_way_lights) return "six-way";
+    if (scene.sphere_lights > 0) return "sphere:" + std::to_string(scene.sphere_lights);
+    return "scene";
+}
+
 std::string configToJson(const BakeConfig& c) {
     json j;
     j["frames"] = c.frames.empty() ? "all" : c.frames;
@@ -208,7 +225,8 @@ std::string configToJson(const BakeConfig& c) {
     if (!c.scene.scene_path.empty()) j["scene"] = c.scene.scene_path;
     if (c.scene.camera) j["camera"] = *c.scene.camera;
     if (c.fire_lights) j["fire_lights"] = true;  // only when set, as "lights"
-    if (c.scene.six_way_lights) j["lights"] = "six-way";  // only when set: other bakes keep their settings hash
+    // Only when set: other bakes keep their settings hash.
+    if (c.scene.six_way_lights || c.scene.sphere_lights > 0) j["lights"] = lightsChoiceName(c.scene);
     j["density_grid"] = c.read.density_grid;
     j["temperature_grid"] = c.read.temperature_grid;
     j["temperature_scale"] = c.read.temperature_scale;

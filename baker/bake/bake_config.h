@@ -63,4 +63,11 @@ uint64_t parseByteSize(const std::string& text);
 // The whole configuration as JSON, recorded in the package as provenance.
 std::string configToJson(const BakeConfig& config);
 
+// "scene", "six-way", "sphere" (42 lights) or "sphere:N" (N of basis/sphere_lights.h's counts)
+// into `scene`'s six_way_lights and sphere_lights. An InvalidArgument Error naming the text for
+// anything else.
+void applyLightsChoice(SceneOptions& scene, const std::string& lights);
+// The same as it is written back ("scene" when neither is set).
+std::string lightsChoiceName(const SceneOptions& scene);
+
 }  // namespace firelook::bake

@@ -107,6 +107,11 @@ DescribedBake describeDerivedBake(const vdb::VdbSequence& sequence, const BakeCo
     d.footprint_samples = per_axis * per_axis;
     d.light_directions = scene.light_directions;
     d.six_way_first_light = scene.six_way_first_light;
+    d.sphere_first_light = scene.sphere_first_light;
+    d.sphere_light_count = scene.sphere_first_light >= 0
+                               ? static_cast<int>(scene.light_directions.size()) - scene.sphere_first_light
+                               : 0;
+    d.sphere_triangles = scene.sphere_triangles;
     d.width = scene.camera.width();
     d.height = scene.camera.height();
 
@@ -119,8 +124,9 @@ DescribedBake describeDerivedBake(const vdb::VdbSequence& sequence, const BakeCo
     if (scene.camera_source == "default" || config.scene.scene_path.empty())
         look.light_irradiance = defaultLook().light_irradiance;
     look.light_irradiance.resize(scene.light_directions.size(), Rgb(1.0f));
-    // The six-way lights are off by default, so a default render shows the scene's lights alone.
-    for (size_t l = std::max(scene.six_way_first_light, 0); scene.six_way_first_light >= 0 && l < look.light_irradiance.size(); ++l)
+    // The six-way or sphere lights are off by default, so a default render shows the scene's lights alone.
+    for (size_t l = std::max(d.relightFirstLight(), 0);
+         d.relightFirstLight() >= 0 && l < look.light_irradiance.size(); ++l)
         look.light_irradiance[l] = Rgb(0.0f);
     d.default_look_json = lookToJson(look);
     return out;

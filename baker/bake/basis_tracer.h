@@ -61,7 +61,7 @@ struct TraceSettings {
     // spans at most 48 voxels get 1-voxel cells, so the cost stays bounded by the cells' count:
     // of the sample, frames 1-4 (up to 37 voxels across; frame 5, 46 across, keeps 2-voxel
     // cells), and its frames 1-6 at 256x256 baked in 102.6-103.2 s against 91.3-96.6 s with 2
-    // (peak 1.19 against 0.85 GB).
+    // (peak 1.19 against 0.85 GB; the scalar march before 2026-12-06's vectorised one).
     int cell_voxels = 1;
     // At most this many cells along any axis of the volume: 48 keeps the bundled 80^3 sample at
     // 2-voxel cells and makes the memory and cost of the scattered light independent of the

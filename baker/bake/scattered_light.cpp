@@ -21,7 +21,8 @@ ScatteredLightTracer::ScatteredLightTracer(const TransportContext& ctx, const Ba
     : ctx_(ctx),
       settings_(settings),
       albedo_(model.albedo),
-      counted_(model.six_way_first_light >= 0 ? ctx.tables.bins + model.six_way_first_light : ctx.tables.columns),
+      counted_(model.relightFirstLight() >= 0 ? ctx.tables.bins + model.relightFirstLight()
+                                              : ctx.tables.columns),
       chain_share_(settings.photon_noise_target > 0.0 ? settings.photon_pilot_share : 1.0),
       photons_primary_(std::max(1, static_cast<int>(std::lround(0.5 * chain_share_ * settings.photons_primary)))),
       photons_per_order_(std::max(1, static_cast<int>(std::lround(0.5 * chain_share_ * settings.photons_per_order)))),

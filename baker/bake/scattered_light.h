@@ -43,9 +43,9 @@ class ScatteredLightTracer {
     // Ends the tracing: the mean of the chains (the sum divided by their count), moved out.
     std::vector<float> estimate() &&;
 
-    // Columns 0..counted-1 of each grid point decide the orders and the photon budget; six-way lights
-    // (basis/six_way_lights.h) come after them and never change either, so every other column is the
-    // same bytes as in a bake without them.
+    // Columns 0..counted-1 of each grid point decide the orders and the photon budget; six-way or
+    // sphere lights (basis/six_way_lights.h, basis/sphere_lights.h) come after them and never change
+    // either, so every other column is the same bytes as in a bake without them.
     int countedColumns() const { return counted_; }
     int orders() const { return orders_; }  // the most any chain traced
     double lastOrderFraction() const { return last_order_fraction_; }

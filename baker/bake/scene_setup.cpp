@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "basis/six_way_lights.h"
+#include "basis/sphere_lights.h"
 #include "common/error.h"
 #include "gltf/gltf_scene.h"
 #include "vdb/frame_grids.h"
@@ -16,7 +17,7 @@ namespace firelook::bake {
 
 SceneSetup resolveScene(const vdb::VdbSequence& sequence, const SceneOptions& options) {
     std::optional<render::Camera> camera;
-    SceneSetup setup{render::Camera(render::CameraParameters{}), {}, {}, "default"};
+    SceneSetup setup{render::Camera(render::CameraParameters{}), {}, {}, "default", -1, -1, {}};
     if (!options.scene_path.empty()) {
         const gltf::Scene scene = gltf::loadScene(options.scene_path);
         if (scene.camera)
@@ -50,8 +51,18 @@ SceneSetup resolveScene(const vdb::VdbSequence& sequence, const SceneOptions& op
         setup.light_directions.push_back(glm::normalize(down));
         setup.light_colors.push_back(Rgb(1.0f, 0.95f, 0.9f));
     }
+    if (options.six_way_lights && options.sphere_lights > 0)
+        throw Error(ErrorCode::InvalidArgument, "--lights takes six-way or a sphere, not both");
+    const glm::dmat4 world_from_camera = glm::make_mat4(setup.camera.parameters().world_from_camera.data());
+    if (options.sphere_lights > 0) {
+        setup.sphere_first_light = static_cast<int>(setup.light_directions.size());
+        setup.sphere_triangles = basis::geodesicSphere(options.sphere_lights).triangles;
+        for (const glm::dvec3& d : basis::sphereTravelDirections(world_from_camera, options.sphere_lights)) {
+            setup.light_directions.push_back(d);
+            setup.light_colors.push_back(Rgb(0.0f));  // off in the default look, as the six-way lights
+        }
+    }
     if (options.six_way_lights) {
-        const glm::dmat4 world_from_camera = glm::make_mat4(setup.camera.parameters().world_from_camera.data());
         setup.six_way_first_light = static_cast<int>(setup.light_directions.size());
         for (const glm::dvec3& d : basis::sixWayTravelDirections(world_from_camera)) {
             setup.light_directions.push_back(d);

@@ -17,6 +17,10 @@
 
 namespace firelook::bake {
 
+// The sphere `--lights sphere` bakes (basis/sphere_lights.h): 42 lights, the fewest that relight
+// within the README's bar ("Light from any direction").
+inline constexpr int kDefaultSphereLights = 42;
+
 struct SceneOptions {
     std::string scene_path;                       // glTF: first perspective camera + directional lights
     std::optional<std::array<double, 7>> camera;  // position xyz, target xyz, vertical fov in degrees
@@ -25,6 +29,9 @@ struct SceneOptions {
     int height = 256;
     // `--lights six-way`: six camera-relative lights after the scene's own (basis/six_way_lights.h).
     bool six_way_lights = false;
+    // `--lights sphere:N`: N camera-relative lights on a geodesic sphere after the scene's own
+    // (basis/sphere_lights.h); 0 without them. Not together with six_way_lights.
+    int sphere_lights = 0;
 };
 
 struct SceneSetup {
@@ -33,10 +40,13 @@ struct SceneSetup {
     std::vector<Rgb> light_colors;             // from the scene (color * intensity), else defaults
     std::string camera_source;                 // "default", "--camera" or the glTF file
     int six_way_first_light = -1;              // index of the first six-way light, -1 without them
+    int sphere_first_light = -1;               // index of the first sphere light, -1 without them
+    std::vector<std::array<int, 3>> sphere_triangles;  // the sphere lights' geodesic triangles
 };
 
 // Without a scene, one default light shines from above and in front of the camera. With
-// options.six_way_lights the six camera-relative lights follow, with zero colour.
+// options.six_way_lights the six camera-relative lights follow, with options.sphere_lights the
+// sphere's; both with zero colour.
 SceneSetup resolveScene(const vdb::VdbSequence& sequence, const SceneOptions& options);
 
 // [min, max] of the temperature over every frame of the sequence (loads each frame once).

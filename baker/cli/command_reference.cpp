@@ -1,5 +1,5 @@
 // firelook reference SEQUENCE --frame F [--look L.json] [--scene S.gltf | --camera ...]
-//                    [--size WxH] [--light-dir X,Y,Z [--light-irradiance R,G,B]] --spp N -o IMG
+//                    [--size WxH] [--light-dir X,Y,Z [--light-irradiance R,G,B]]... --spp N -o IMG
 // Path-traced ground truth of exactly the model a bake with the same flags uses
 // (same bins, camera and lights; without --look, the same default look).
 #include <cstdio>
@@ -37,24 +37,31 @@ void registerReferenceCommand(CLI::App& app) {
     cmd->add_option("--seed", args->seed, "random seed")->capture_default_str();
     addOutputOption(*cmd, args->out, "output image (.exr or .png)")->required();
     addSceneFlags(*cmd, args->scene);
-    addLightDirectionFlags(*cmd, args->light,
-                           "in place of the six-way lights (needs --lights six-way, as the bake it judges)");
+    addLightDirectionFlags(
+        *cmd, args->light,
+        "in place of the six-way or sphere lights (needs --lights six-way or sphere, as the "
+        "bake it judges)");
     cmd->callback([cmd, args] {
         const bake::BakeConfig config = makeBakeConfig(*cmd, args->scene);
         const vdb::VdbSequence sequence = vdb::VdbSequence::open(args->sequence, config.read);
         const bake::SceneSetup scene = bake::resolveScene(sequence, config.scene);
-        const std::optional<basis::RunTimeLight> light = runTimeLight(*cmd, args->light);
-        if (light && scene.six_way_first_light < 0)
-            throw Error(ErrorCode::InvalidArgument,
-                        "--light-dir takes the place of the six-way lights: pass --lights six-way");
+        const std::vector<basis::RunTimeLight> lights = runTimeLights(args->light);
+        const int first =
+            scene.six_way_first_light >= 0 ? scene.six_way_first_light : scene.sphere_first_light;
+        if (!lights.empty() && first < 0)
+            throw Error(
+                ErrorCode::InvalidArgument,
+                "--light-dir takes the place of the six-way or sphere lights: pass --lights six-way or "
+                "--lights sphere");
         const basis::BakeDescription d = bake::describeBake(sequence, config, scene);
         const Look look = args->look.empty() ? parseLook(d.default_look_json, "default look") : loadLook(args->look);
         LookModel model = makeLookModel(look, d.bins, d.rbf_width, d.light_directions);
-        if (light) {
-            // The light itself, where render and the runtime weight the six-way lights' columns.
-            const auto first = model.lights.begin() + scene.six_way_first_light;
-            model.lights.erase(first, first + basis::kSixWayLightCount);
-            model.lights.push_back({basis::checkedUnitDirection(*light), light->irradiance});
+        if (!lights.empty()) {
+            // The lights themselves, where render and the runtime weight the six-way or sphere
+            // lights' columns (they are the last lights).
+            model.lights.erase(model.lights.begin() + first, model.lights.end());
+            for (const basis::RunTimeLight& light : lights)
+                model.lights.push_back({basis::checkedUnitDirection(light), light.irradiance});
         }
         throwIfInterrupted();
         const render::Medium medium = reference::mediumFromFrame(sequence.load(args->frame));

@@ -1,4 +1,4 @@
-// firelook render PACKAGE --frame F [--look L.json] [--light-dir X,Y,Z [--light-irradiance R,G,B]]
+// firelook render PACKAGE --frame F [--look L.json] [--light-dir X,Y,Z [--light-irradiance R,G,B]]...
 //                 -o IMG (.exr or .png)
 #include <cstdio>
 
@@ -29,15 +29,15 @@ void registerRenderCommand(CLI::App& app) {
     addOutputOption(*cmd, args->out, "output image, .exr (linear premultiplied RGBA) or .png")->required();
     cmd->add_option("--exposure", args->exposure, "PNG exposure in stops")->capture_default_str();
     addLightDirectionFlags(*cmd, args->light,
-                           "in place of the six-way lights of a bake with --lights six-way (weighted, "
-                           "docs/cli.md \"Light from any direction\")");
-    cmd->callback([cmd, args] {
+                           "in place of the six-way or sphere lights of a bake with --lights six-way or "
+                           "sphere (weighted, docs/cli.md \"Light from any direction\")");
+    cmd->callback([args] {
         const basis::BasisReader package = basis::BasisReader::open(args->package);
         const basis::BakeDescription& d = package.description();
         Look look = args->look.empty() ? parseLook(d.default_look_json, args->package + " (default look)")
                                              : loadLook(args->look);
-        if (const auto light = runTimeLight(*cmd, args->light))
-            basis::applyRunTimeLight(d, *light, args->package, look.light_irradiance);
+        const std::vector<basis::RunTimeLight> lights = runTimeLights(args->light);
+        if (!lights.empty()) basis::applyRunTimeLights(d, lights, args->package, look.light_irradiance);
         // The resident form, as the runtime world draws it.
         const basis::ResidentFrame frame = package.loadResidentFrame(args->frame, std::pmr::get_default_resource());
         image::ImageRGBA image(d.width, d.height);

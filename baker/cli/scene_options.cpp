@@ -14,10 +14,14 @@ void addSceneFlags(CLI::App& command, SceneFlags& flags) {
         ->capture_default_str();
     command.add_option("--bins", flags.bins, "number of temperature bins")->check(CLI::Range(1, 256))->capture_default_str();
     command.add_option("--config", flags.config, "bake settings JSON (docs/bake-config.md)")->check(CLI::ExistingFile);
-    command.add_option("--lights", flags.lights,
-                        "six-way: add six camera-relative lights (right, top, back, left, bottom, front), off in "
-                        "the default look (docs/cli.md, \"Six-way lights\")")
-        ->check(CLI::IsMember({"scene", "six-way"}))
+    command
+        .add_option(
+            "--lights", flags.lights,
+            "six-way: add six camera-relative lights (right, top, back, left, bottom, front), off in "
+            "the default look (docs/cli.md, \"Six-way lights\"); sphere, sphere:12 or sphere:42: that "
+            "many camera-relative lights on a geodesic sphere (42 for sphere), off in the default "
+            "look, to relight from any direction (basis/sphere_lights.h)")
+        ->check(CLI::IsMember({"scene", "six-way", "sphere", "sphere:12", "sphere:42"}))
         ->capture_default_str();
     addSequenceFlags(command, flags.sequence);
 }
@@ -31,7 +35,7 @@ bake::BakeConfig makeBakeConfig(const CLI::App& command, const SceneFlags& flags
     if (given("--up") || flags.config.empty())
         config.scene.up = flags.up == "z" ? render::UpAxis::Z : render::UpAxis::Y;
     if (given("--bins") || flags.config.empty()) config.bins = flags.bins;
-    if (given("--lights")) config.scene.six_way_lights = flags.lights == "six-way";
+    if (given("--lights")) bake::applyLightsChoice(config.scene, flags.lights);
     config.scene.scene_path = flags.scene;
     if (flags.camera.size() == 7) {
         std::array<double, 7> c{};

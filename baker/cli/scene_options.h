@@ -17,7 +17,7 @@ struct SceneFlags {
     std::string up = "y";
     int bins = 16;
     std::string config;
-    std::string lights = "scene";  // --lights scene|six-way
+    std::string lights = "scene";  // --lights scene|six-way|sphere[:N]
     SequenceFlags sequence;  // --strict, --clamp-extreme
 };
 

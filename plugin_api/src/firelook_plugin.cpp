@@ -996,6 +996,35 @@ FIRELOOK_API fl_result fl_package_get_six_way_lights(fl_package h, int32_t* out_
     });
 }
 
+namespace {
+void requireRelightLights(const world::Package& p) {
+    if (p.description().relightFirstLight() < 0)
+        fail(ErrorCode::NotFound,
+             p.name() +
+                 ": baked without six-way or sphere lights (firelook bake --lights six-way or "
+                 "--lights sphere)");
+}
+
+basis::RunTimeLight runTimeLight(const fl_light_direction_desc& d) {
+    basis::RunTimeLight light;
+    light.direction = {d.direction[0], d.direction[1], d.direction[2]};
+    light.irradiance = {d.irradiance[0], d.irradiance[1], d.irradiance[2]};
+    return light;
+}
+}  // namespace
+
+FIRELOOK_API fl_result fl_package_get_relight_lights(fl_package h, int32_t* out_first_light,
+                                                     int32_t* out_count) {
+    return guarded("fl_package_get_relight_lights", [&] {
+        checkPointer(out_first_light, "out_first_light");
+        checkPointer(out_count, "out_count");
+        const std::shared_ptr<const world::Package> p = findPackage(h);
+        requireRelightLights(*p);
+        *out_first_light = p->description().relightFirstLight();
+        *out_count = p->description().relightLightCount();
+    });
+}
+
 FIRELOOK_API fl_result fl_instance_set_light_direction(fl_world w, fl_instance i, const fl_light_direction_desc* desc) {
     return guarded("fl_instance_set_light_direction", [&] {
         const WorldInstance wi = findInstance(w, i);
@@ -1004,11 +1033,35 @@ FIRELOOK_API fl_result fl_instance_set_light_direction(fl_world w, fl_instance i
             return;
         }
         const fl_light_direction_desc d = readIn(desc, "desc");
-        requireSixWayLights(wi.world.package(wi.instance));
-        basis::RunTimeLight light;
-        light.direction = {d.direction[0], d.direction[1], d.direction[2]};
-        light.irradiance = {d.irradiance[0], d.irradiance[1], d.irradiance[2]};
-        wi.world.setLightDirection(wi.instance, light);  // refuses a zero or non-finite light
+        requireRelightLights(wi.world.package(wi.instance));
+        wi.world.setLightDirection(wi.instance, runTimeLight(d));  // refuses a zero or non-finite light
+    });
+}
+
+FIRELOOK_API fl_result fl_instance_set_light_directions(fl_world w, fl_instance i,
+                                                        const fl_light_direction_desc* lights,
+                                                        uint32_t count) {
+    return guarded("fl_instance_set_light_directions", [&] {
+        const WorldInstance wi = findInstance(w, i);
+        requireRelightLights(wi.world.package(wi.instance));
+        std::vector<basis::RunTimeLight> resolved;
+        if (count > 0) {
+            checkStruct(lights, "lights");
+            // The caller's struct may be older or newer than ours: step by its size.
+            const uint32_t stride = plugin::callerStructSize(lights);
+            const auto* bytes = reinterpret_cast<const unsigned char*>(lights);
+            resolved.reserve(count);
+            for (uint32_t k = 0; k < count; ++k) {
+                const unsigned char* element = bytes + static_cast<size_t>(k) * stride;
+                if (plugin::callerStructSize(element) != stride)
+                    fail(ErrorCode::StructSize, "lights[" + std::to_string(k) + "].struct_size is " +
+                                                    std::to_string(plugin::callerStructSize(element)) +
+                                                    ", lights[0]'s is " + std::to_string(stride) +
+                                                    ": every element must have the array's one size");
+                resolved.push_back(runTimeLight(plugin::copyIn<fl_light_direction_desc>(element, stride)));
+            }
+        }
+        wi.world.setLightDirections(wi.instance, resolved);  // refuses a zero or non-finite light
     });
 }
 

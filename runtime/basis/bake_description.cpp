@@ -16,6 +16,11 @@ const FrameRecord* BakeDescription::findFrame(int frame) const {
     return nullptr;
 }
 
+int BasisModel::relightLightCount() const {
+    if (six_way_first_light >= 0) return kSixWayLightCount;
+    return sphere_first_light >= 0 ? sphere_light_count : 0;
+}
+
 std::string bakeDescriptionToJson(const BakeDescription& d) {
     json lights = json::array();
     for (const glm::dvec3& dir : d.light_directions) lights.push_back({dir.x, dir.y, dir.z});
@@ -45,6 +50,12 @@ std::string bakeDescriptionToJson(const BakeDescription& d) {
         for (std::string_view name : kSixWayLightNames) names.push_back(std::string(name));
         j["six_way_lights"] = {{"first", d.six_way_first_light}, {"names", names}};
     }
+    // Likewise only by sphere bakes.
+    if (d.sphere_first_light >= 0)
+        j["sphere_lights"] = {{"first", d.sphere_first_light},
+                              {"count", d.sphere_light_count},
+                              {"interpolation", "spherical barycentric"},
+                              {"triangles", d.sphere_triangles}};
     return j.dump(2);
 }
 
@@ -79,6 +90,32 @@ BakeDescription parseBakeDescription(const std::string& json_text, const std::st
                 d.six_way_first_light + kSixWayLightCount > static_cast<int>(d.light_directions.size()))
                 throw Error(ErrorCode::InvalidArgument,
                             "six_way_lights.first must leave six lights after it");
+        }
+        if (j.contains("sphere_lights")) {
+            const json& sphere = j["sphere_lights"];
+            d.sphere_first_light = sphere.at("first").get<int>();
+            d.sphere_light_count = sphere.at("count").get<int>();
+            d.sphere_triangles = sphere.at("triangles").get<std::vector<std::array<int, 3>>>();
+            const std::string interpolation =
+                sphere.value("interpolation", std::string("spherical barycentric"));
+            if (interpolation != "spherical barycentric")
+                throw Error(ErrorCode::InvalidArgument, "sphere_lights.interpolation \"" + interpolation +
+                                                            "\" is not \"spherical barycentric\"");
+            if (d.six_way_first_light >= 0)
+                throw Error(ErrorCode::InvalidArgument, "six_way_lights and sphere_lights together");
+            if (d.sphere_first_light < 0 || d.sphere_light_count < 4 ||
+                d.sphere_first_light + d.sphere_light_count > static_cast<int>(d.light_directions.size()))
+                throw Error(ErrorCode::InvalidArgument,
+                            "sphere_lights must name 4 or more of the lights (first, count)");
+            // A closed triangulation of N points on the sphere has 2N - 4 triangles (Euler).
+            if (d.sphere_triangles.size() != static_cast<size_t>(2 * d.sphere_light_count - 4))
+                throw Error(ErrorCode::InvalidArgument,
+                            "sphere_lights.triangles must be 2 count - 4 triangles");
+            for (const std::array<int, 3>& t : d.sphere_triangles)
+                for (int v : t)
+                    if (v < 0 || v >= d.sphere_light_count)
+                        throw Error(ErrorCode::InvalidArgument,
+                                    "sphere_lights.triangles names a light past count");
         }
         d.width = j.at("width").get<int>();
         d.height = j.at("height").get<int>();

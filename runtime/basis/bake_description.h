@@ -3,10 +3,10 @@
 // the package's META JSON (docs/package-format.md, "Baked basis layout").
 #pragma once
 
+#include <array>
+#include <glm/vec3.hpp>
 #include <string>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 #include "basis/parameter_grid.h"
 #include "look/look_model.h"
@@ -32,6 +32,19 @@ struct BasisModel {
     // Index of the first of the six camera-relative lights of `bake --lights six-way`
     // (six_way_lights.h), which follow the scene's own lights; -1 when the bake has none.
     int six_way_first_light = -1;
+    // The lights of `bake --lights sphere:N` (sphere_lights.h), after the scene's own: the first's
+    // index (-1 without them; never together with six-way lights), their count N and their
+    // geodesic triangles (indices 0..N-1 from sphere_first_light), which relight.h interpolates on.
+    int sphere_first_light = -1;
+    int sphere_light_count = 0;
+    std::vector<std::array<int, 3>> sphere_triangles;
+
+    // The lights a run-time light direction is made of (relight.h): the six-way or the sphere
+    // lights, as [first, first + count); first is -1 (and count 0) without either.
+    int relightFirstLight() const {
+        return six_way_first_light >= 0 ? six_way_first_light : sphere_first_light;
+    }
+    int relightLightCount() const;
 
     int columnsPerPoint() const { return bins.count + static_cast<int>(light_directions.size()); }
     int columnCount() const { return axes.pointCount() * columnsPerPoint(); }

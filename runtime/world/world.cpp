@@ -221,8 +221,13 @@ void World::setLightDirection(InstanceHandle h, const std::optional<basis::RunTi
         run_time_light_[dense].reset();
         return;
     }
+    setLightDirections(h, std::span<const basis::RunTimeLight>(&*light, 1));
+}
+
+void World::setLightDirections(InstanceHandle h, std::span<const basis::RunTimeLight> lights) {
+    const int dense = denseIndex(h);
     const Package& p = *packages_[package_index_[dense]].package;
-    run_time_light_[dense] = basis::relightIrradiance(p.description(), *light, p.name());
+    run_time_light_[dense] = basis::relightIrradiance(p.description(), lights, p.name());
 }
 
 const PlaybackSettings& World::playback(InstanceHandle h) const { return playback_[denseIndex(h)]; }
@@ -302,8 +307,8 @@ void World::update(double dt) {
         frame_slot_[i] = p.slotAtOrBelow(frame_position_[i]);
     }
 
-    // 2. Keyframes, then a run-time light over the six-way lights. Each instance's keys live in
-    // their own allocations, so with many instances they come from far caches: their records are
+    // 2. Keyframes, then a run-time light over the six-way or sphere lights. Each instance's keys live
+    // in their own allocations, so with many instances they come from far caches: their records are
     // prefetched two strides ahead and the coefficients they point at one stride ahead.
     constexpr size_t kAhead = 8;
     for (size_t i = 0; i < n; ++i) {
@@ -322,7 +327,7 @@ void World::update(double dt) {
         if (run_time_light_[i])
             std::copy(run_time_light_[i]->begin(), run_time_light_[i]->end(),
                       lights_.data() + i * lights_stride_ +
-                          packages_[package_index_[i]].package->description().six_way_first_light);
+                          packages_[package_index_[i]].package->description().relightFirstLight());
     }
 
     // 3. Residency (a load may throw: nothing below has changed yet).
@@ -447,7 +452,7 @@ Look World::look(InstanceHandle h) const {
     Look look = sampledLook(keys_[i], frame_position_[i], d);
     if (run_time_light_[i])
         std::copy(run_time_light_[i]->begin(), run_time_light_[i]->end(),
-                  look.light_irradiance.begin() + d.six_way_first_light);
+                  look.light_irradiance.begin() + d.relightFirstLight());
     return look;
 }
 

@@ -127,19 +127,22 @@ class World {
     void setPlayback(InstanceHandle instance, const PlaybackSettings& playback);
     void setOutputs(InstanceHandle instance, const OutputSettings& outputs);
     // A light from a direction chosen at run time (basis/relight.h): from the next update on, the
-    // six-way lights' irradiance of whatever look the instance shows is replaced by the weights of
-    // `light` times its irradiance; it stays across setLook/setKeyframes. nullopt: the look's own
-    // six-way irradiance again. An InvalidArgument Error (nothing changes) when the package has no
-    // six-way lights or the light is not finite, has a zero direction or a negative irradiance.
+    // six-way or sphere lights' irradiance of whatever look the instance shows is replaced by the
+    // weights of `light` times its irradiance; it stays across setLook/setKeyframes. nullopt: the
+    // look's own six-way or sphere irradiance again. An InvalidArgument Error (nothing changes) when
+    // the package has neither or the light is not finite, has a zero direction or a negative
+    // irradiance.
     void setLightDirection(InstanceHandle instance, const std::optional<basis::RunTimeLight>& light);
+    // The same for several lights at once: their weighted irradiances summed (none: those lights dark).
+    void setLightDirections(InstanceHandle instance, std::span<const basis::RunTimeLight> lights);
     const PlaybackSettings& playback(InstanceHandle instance) const;
     const Package& package(InstanceHandle instance) const;
 
     void update(double dt);
     InstanceState state(InstanceHandle instance) const;
     // The look the instance shows at its frame position (the last update's, the package's first
-    // frame before any): sampledLook() of its keys (look_track.h), with a run-time light's six-way
-    // irradiance (setLightDirection). Allocates.
+    // frame before any): sampledLook() of its keys (look_track.h), with a run-time light's six-way or
+    // sphere irradiance (setLightDirection[s]). Allocates.
     Look look(InstanceHandle instance) const;
     // The frame the last update showed, in the cache's resident form: no decode, valid until the
     // next call that changes the world. Null until the first update after creation or setOutputs
@@ -200,8 +203,8 @@ class World {
     std::vector<int> frame_slot_;
     std::vector<ExtinctionParams> extinction_;
     std::vector<uint8_t> updated_;
-    // The six-way lights' irradiance of a run-time light (setLightDirection), else nullopt.
-    std::vector<std::optional<std::array<Rgb, basis::kSixWayLightCount>>> run_time_light_;
+    // The six-way or sphere lights' irradiance of run-time lights (setLightDirection[s]), else nullopt.
+    std::vector<std::optional<std::vector<Rgb>>> run_time_light_;
     HostVector<Rgb> rbf_;     // dense x bins_stride_
     HostVector<Rgb> lights_;  // dense x lights_stride_
     HostVector<float> z_;     // dense x z_stride_

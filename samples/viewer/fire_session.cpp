@@ -28,9 +28,10 @@ std::unique_ptr<FireSession> FireSession::open(const std::string& path) {
     s->default_look_json_.resize(size > 0 ? size - 1 : 0);
     s->look_ = parseLookEdit(s->default_look_json_, path + " (default look)");
 
-    int32_t first = -1;
-    if (fl_package_get_six_way_lights(s->package_, &first) == FL_OK) {
-        s->six_way_first_light_ = first;
+    int32_t first = -1, relight_count = 0;
+    if (fl_package_get_relight_lights(s->package_, &first, &relight_count) == FL_OK) {  // six-way or sphere
+        s->relight_first_light_ = first;
+        s->relight_count_ = relight_count;
         fl_camera camera = fl_camera_defaults();
         if (fl_package_get_camera(s->package_, &camera) == FL_OK)
             for (int c = 0; c < 3; ++c) {  // the rotation's columns, normalised (a scale does not matter)

@@ -31,7 +31,7 @@ struct FlareSettings {
 };
 
 // A light from a direction chosen at run time (fl_instance_set_light_direction), for packages baked
-// with six-way lights. The angles are in the package camera's frame, towards the light: azimuth 0
+// with six-way or sphere lights. The angles are in the package camera's frame, towards the light: azimuth 0
 // on the camera's side, 90 from the right; elevation 90 from above, -90 from below.
 struct LightDirection {
     bool enabled = false;
@@ -71,8 +71,10 @@ class FireSession {
     void setAnimateKeys(bool on);
     void applyLooks();
 
-    // The run-time light (only with six-way lights: hasSixWayLights()). Throws ViewerError.
-    bool hasSixWayLights() const { return six_way_first_light_ >= 0; }
+    // The run-time light (only with six-way or sphere lights: hasRelightLights()). Throws ViewerError.
+    bool hasRelightLights() const { return relight_first_light_ >= 0; }
+    int relightFirstLight() const { return relight_first_light_; }
+    int relightLightCount() const { return relight_count_; }
     const LightDirection& lightDirection() const { return light_direction_; }
     void setLightDirection(const LightDirection& light);
 
@@ -116,7 +118,8 @@ class FireSession {
     fl_outputs_desc outputs_ = fl_outputs_desc_defaults();
     fl_instance_state state_ = fl_instance_state_defaults();
     std::vector<float> z_;
-    int six_way_first_light_ = -1;
+    int relight_first_light_ = -1;  // the first six-way or sphere light, -1 without them
+    int relight_count_ = 0;         // 6, or the sphere's 12 or 42
     double camera_rotation_[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // world from camera, columns; identity without a camera
     LightDirection light_direction_;
 };

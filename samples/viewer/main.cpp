@@ -42,7 +42,8 @@ void applyStartOptions(ViewerApp& app, const Options& o) {
         light.enabled = true;
         light.azimuth_degrees = o.light_angles[0];
         light.elevation_degrees = o.light_angles[1];
-        s.setLightDirection(light);  // a package without six-way lights: the library's error, naming it
+        s.setLightDirection(
+            light);  // a package without six-way or sphere lights: the library's error, naming it
     }
     const fl_package_info& info = s.info();
     if (o.frame_given) {

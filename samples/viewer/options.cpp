@@ -33,9 +33,11 @@ int parseOptions(int argc, char** argv, Options& o) {
     app.add_option("--exposure", o.exposure, "display exposure in stops (PNG screenshots too)");
     app.add_flag("--flare", o.flare, "lens flare on");
     app.add_flag("--compare", o.compare, "show the GPU-vs-CPU difference view");
-    app.add_option("--light-angles", o.light_angles,
-                   "AZ,EL: light the fire from this direction (degrees in the camera's frame: azimuth 0 on the "
-                   "camera's side, 90 from the right; elevation 90 from above); needs a bake with --lights six-way")
+    app.add_option(
+           "--light-angles", o.light_angles,
+           "AZ,EL: light the fire from this direction (degrees in the camera's frame: azimuth 0 on the "
+           "camera's side, 90 from the right; elevation 90 from above); needs a bake with --lights six-way "
+           "or sphere")
         ->expected(2)
         ->delimiter(',')
         ->check(CLI::Range(-360.0, 360.0));

@@ -184,10 +184,10 @@ bool emissionEditor(ViewerApp& app, FireSession& s, LookEdit& look) {
 }
 
 // The run-time light (fl_instance_set_light_direction): two angles in the camera's frame and its
-// irradiance; it takes the place of the six-way lights' irradiance of the look.
+// irradiance; it takes the place of the six-way or sphere lights' irradiance of the look.
 void lightDirectionControl(ViewerApp& app, FireSession& s) {
     LightDirection light = s.lightDirection();
-    bool changed = ImGui::Checkbox("light from a direction (six-way lights)", &light.enabled);
+    bool changed = ImGui::Checkbox("light from a direction (six-way or sphere lights)", &light.enabled);
     changed |= ImGui::SliderFloat("azimuth", &light.azimuth_degrees, -180.0f, 180.0f, "%.0f deg");
     changed |= ImGui::SliderFloat("elevation", &light.elevation_degrees, -90.0f, 90.0f, "%.0f deg");
     ImGui::Text("irradiance");
@@ -220,7 +220,14 @@ void lookPanel(ViewerApp& app, UiState& ui, FireSession& s) {
     changed |= sliderDouble("k_f", look.flame_extinction, info.flame_extinction_min, info.flame_extinction_max);
     ImGui::Text("albedo %.3f (fixed by the bake)", look.albedo);
     changed |= emissionEditor(app, s, look);
+    // A sphere's lights (12 or 42) are set through the light-direction control, not one by one.
+    const bool sphere = s.hasRelightLights() && s.relightLightCount() > 6;
     for (size_t l = 0; l < look.lights.size(); ++l) {
+        if (sphere && static_cast<int>(l) == s.relightFirstLight())
+            ImGui::TextWrapped("lights %d-%d: the sphere's %d, lit by the light from a direction below",
+                               s.relightFirstLight(), s.relightFirstLight() + s.relightLightCount() - 1,
+                               s.relightLightCount());
+        if (sphere && static_cast<int>(l) >= s.relightFirstLight()) continue;
         char id[32];
         std::snprintf(id, sizeof id, "light %zu", l);
         ImGui::Text("%s", id);
@@ -228,7 +235,7 @@ void lookPanel(ViewerApp& app, UiState& ui, FireSession& s) {
         changed |= colourIntensity(id, look.lights[l]);
     }
     if (changed) app.editLook(look);
-    if (s.hasSixWayLights()) lightDirectionControl(app, s);
+    if (s.hasRelightLights()) lightDirectionControl(app, s);
 
     ImGui::InputText("##lookpath", &ui.look_path);
     ImGui::SameLine();

@@ -40,8 +40,9 @@
       (the frame the world already holds; the fl_package_ variants decode it
       again; the shader that uses them: share/firelook/shaders/firelook_reconstruct.glsl,
       installed with the library). fl_instance_get_look() gives the look an instance shows.
-      A package baked with six-way lights can be lit from any direction at run time:
-      fl_instance_set_light_direction().
+      A package baked with six-way or sphere lights can be lit from any direction at run
+      time: fl_instance_set_light_direction(), or several lights at once with
+      fl_instance_set_light_directions().
    6. Release everything and call fl_shutdown().
 
    Conventions (after sokol_gfx, OpenEXRCore, Dear ImGui and flecs):
@@ -135,7 +136,7 @@ extern "C" {
     X(FL_ERROR_BUFFER_TOO_SMALL, -12) /* the needed size is reported through the size output */          \
     X(FL_ERROR_OUT_OF_MEMORY, -13)                                                                       \
     X(FL_ERROR_NO_DATA, -14)          /* output not enabled, or no fl_world_update since it was */       \
-    X(FL_ERROR_NOT_FOUND, -15)        /* no such frame, camera or six-way lights in the package */       \
+    X(FL_ERROR_NOT_FOUND, -15)        /* no such frame, camera, six-way or sphere lights */              \
     X(FL_ERROR_LIMIT, -16)            /* too many objects of one kind */                                 \
     X(FL_ERROR_INTERNAL, -17)         /* a bug: please report with fl_last_error() */                     \
     X(FL_ERROR_CANCELLED, -18)        /* a progress callback asked to stop (fl_package_fit_look) */
@@ -590,7 +591,7 @@ FIRELOOK_API fl_result fl_instance_get_flare(fl_world world, fl_instance instanc
    between keys, T_c, k_s, k_f and the lights interpolated as the world does and the emission in bins form:
    the interpolated emission the image is made of, at each bin centre (so a reference render of this look
    shows what the instance shows, even where a key's emission needed the non-negative fit). With a light
-   from fl_instance_set_light_direction, the six-way lights carry the irradiance it gives them. A world
+   from fl_instance_set_light_direction[s], the six-way or sphere lights carry the irradiance it gives them. A world
    call (one thread at a time per world). */
 FIRELOOK_API fl_result fl_instance_get_look(fl_world world, fl_instance instance, fl_look* out_look);
 /* The U and optical depth layers of the frame the instance's last update showed, taken from the frame the
@@ -648,7 +649,7 @@ FIRELOOK_API fl_result fl_instance_get_fire_lights(fl_world world, fl_instance i
    back, left, bottom, front, camera-relative, in that order). FL_ERROR_NOT_FOUND without them. */
 FIRELOOK_API fl_result fl_package_get_six_way_lights(fl_package package, int32_t* out_first_light);
 
-/* A directional light for fl_instance_set_light_direction. First published size: through reserved2. */
+/* A directional light for fl_instance_set_light_direction[s]. First published size: through reserved2. */
 typedef struct fl_light_direction_desc {
     uint32_t struct_size;  /* sizeof(fl_light_direction_desc) */
     uint32_t reserved;
@@ -659,19 +660,36 @@ typedef struct fl_light_direction_desc {
     int32_t reserved2;
 } fl_light_direction_desc;
 
-/* Relights an instance of a package baked with six-way lights (firelook bake --lights six-way) from any
-   direction d = desc->direction: from the next fl_world_update on, the six-way lights' irradiance in the
-   look the instance shows (constant or keyframed) is replaced by w_i(d) * desc->irradiance, with
+/* Thread-safe. The lights a light from a direction chosen at run time is made of: the six-way lights, or
+   the N lights on a geodesic sphere of firelook bake --lights sphere (N = 12 or 42, camera-relative;
+   fl_package_get_lights lists their directions). *out_first_light gets the index of the first in
+   fl_package_get_lights' list, *out_count their count (6 for six-way). FL_ERROR_NOT_FOUND without
+   either; nothing is written on an error. */
+FIRELOOK_API fl_result fl_package_get_relight_lights(fl_package package, int32_t* out_first_light,
+                                                     int32_t* out_count);
+
+/* Relights an instance of a package baked with six-way or sphere lights (firelook bake --lights six-way
+   or --lights sphere) from any direction d = desc->direction: from the next fl_world_update on, those
+   lights' irradiance in the look the instance shows (constant or keyframed) is replaced by
+   w_i(d) * desc->irradiance. Six-way lights are weighted by
        w_i(d) = max(0, d . t_i)^2 / sum_j max(0, d . t_j)^2      (t_i: the direction six-way light i travels)
-   which are >= 0, sum to 1 and are continuous in d; at a baked six-way direction the image is exactly
-   that light's. The scene's own lights keep the look's irradiance. The light stays across
-   fl_instance_set_look and fl_instance_set_keyframes; fl_instance_get_look reports the irradiance it
-   gives. desc null: the look's own six-way irradiance again. A package without six-way lights:
+   sphere lights by spherical barycentric interpolation on the geodesic triangle that holds d (the three
+   lights at its corners); both are >= 0, sum to 1 and are continuous in d, and at a baked direction the
+   image is exactly that light's. The scene's own lights keep the look's irradiance. The light stays
+   across fl_instance_set_look and fl_instance_set_keyframes; fl_instance_get_look reports the irradiance
+   it gives. desc null: the look's own six-way or sphere irradiance again. A package with neither:
    FL_ERROR_NOT_FOUND; a zero, NaN or infinite direction, or a non-finite or negative irradiance:
    FL_ERROR_INVALID_ARGUMENT; nothing changes on an error. A world call (one thread at a time per world).
    Its error against the reference path tracer is measured in the README ("Light from any direction"). */
 FIRELOOK_API fl_result fl_instance_set_light_direction(fl_world world, fl_instance instance,
                                                        const fl_light_direction_desc* desc);
+/* Several lights at once, as fl_instance_set_light_direction for each, their irradiances summed (the
+   image is linear in them). lights[] steps by lights[0].struct_size, which every element must share (at
+   least the first published size); count 0 (lights may be null): those lights dark. Errors as
+   fl_instance_set_light_direction for any light, FL_ERROR_STRUCT_SIZE for a size that differs; nothing
+   changes on an error. */
+FIRELOOK_API fl_result fl_instance_set_light_directions(fl_world world, fl_instance instance,
+                                                        const fl_light_direction_desc* lights, uint32_t count);
 
 /* ---- start-up and shutdown ---------------------------------------------- */
 
