@@ -250,8 +250,8 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                 for (int sample = 0; sample < out.footprint_samples; ++sample) {
                     double depth_b = 0.0;
                     if (!ray_march.marchPixelRay(px, py, (sample % per_axis + 0.5) / per_axis,
-                                                 (sample / per_axis + 0.5) / per_axis, per_axis, sample_weight, depth_b,
-                                                 depth_a.data()))
+                                                 (sample / per_axis + 0.5) / per_axis, per_axis,
+                                                 sample_weight, depth_b, depth_a.data()))
                         continue;
                     out.depth_b[static_cast<size_t>(sample) * pixels + pixel] = static_cast<float>(depth_b);
                     float* sigmoid_out = out.depth_a.data() + static_cast<size_t>(sample) * tb.n_alpha * pixels + pixel;

@@ -52,9 +52,9 @@ class CameraMarch {
     double pixel_angle_;  // radians a pixel spans vertically
     bool scattering_;
     std::vector<float> tau_, tau_next_, sigma_t_, ltau_, path_, removed_;
-    std::vector<double> sigmoid_;  // per alpha threshold
-    std::vector<float> direct_;    // [column][point]: the pixel's direct integrals
-    bool direct_added_ = false;    // whether direct_ holds anything since beginPixel
+    std::vector<double> sigmoid_;     // per alpha threshold
+    std::vector<float> direct_;       // [column][point]: the pixel's direct integrals
+    bool direct_added_ = false;       // whether direct_ holds anything since beginPixel
     std::vector<int> entry_of_slot_;  // -1, or the index of the slot in touched_
     std::vector<int> touched_;
     std::vector<float> kernel_;  // [entry][point]

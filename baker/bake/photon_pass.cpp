@@ -147,7 +147,8 @@ void traceChunk(const TransportContext& ctx, SourceKind kind, const PhotonStartS
             for (int g = 0; g < G; ++g) {
                 const float sum = cell_sum[g];
                 if (sum == 0.0f) continue;
-                const float* __restrict w = kind == SourceKind::Emission ? weight.data() : weight.data() + g * C;
+                const float* __restrict w =
+                    kind == SourceKind::Emission ? weight.data() : weight.data() + g * C;
                 float* __restrict to = out + static_cast<std::size_t>(g) * C;
 #pragma omp simd
                 for (int col = col_first; col < col_last; ++col) to[col] += sum * w[col];

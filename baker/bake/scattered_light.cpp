@@ -24,8 +24,10 @@ ScatteredLightTracer::ScatteredLightTracer(const TransportContext& ctx, const Ba
       counted_(model.relightFirstLight() >= 0 ? ctx.tables.bins + model.relightFirstLight()
                                               : ctx.tables.columns),
       chain_share_(settings.photon_noise_target > 0.0 ? settings.photon_pilot_share : 1.0),
-      photons_primary_(std::max(1, static_cast<int>(std::lround(0.5 * chain_share_ * settings.photons_primary)))),
-      photons_per_order_(std::max(1, static_cast<int>(std::lround(0.5 * chain_share_ * settings.photons_per_order)))),
+      photons_primary_(
+          std::max(1, static_cast<int>(std::lround(0.5 * chain_share_ * settings.photons_primary)))),
+      photons_per_order_(
+          std::max(1, static_cast<int>(std::lround(0.5 * chain_share_ * settings.photons_per_order)))),
       sum_(ctx.field_size, 0.0f),
       signed_sum_(ctx.field_size, 0.0f) {
     const TraceTables& tb = ctx.tables;

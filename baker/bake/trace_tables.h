@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <bit>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <vector>
 
@@ -59,7 +59,8 @@ class TanhLadder {
         for (float c : centres) {
             centres_.push_back(c);
             ratio_.push_back(std::exp(-k2_ * (double(c) - double(centres.front()))));
-            ladder_ = ladder_ && std::fabs(k2_ * (double(lo) - c)) <= kBound && std::fabs(k2_ * (double(hi) - c)) <= kBound;
+            ladder_ = ladder_ && std::fabs(k2_ * (double(lo) - c)) <= kBound &&
+                      std::fabs(k2_ * (double(hi) - c)) <= kBound;
         }
     }
     void exponentials(float t, double* e) const {
@@ -68,7 +69,8 @@ class TanhLadder {
             const double e0 = std::exp(k2_ * (double(t) - centres_[0]));
             for (int i = 0; i < n; ++i) e[i] = e0 * ratio_[i];
         } else {
-            for (int i = 0; i < n; ++i) e[i] = std::exp(std::clamp(k2_ * (double(t) - centres_[i]), -kBound, kBound));
+            for (int i = 0; i < n; ++i)
+                e[i] = std::exp(std::clamp(k2_ * (double(t) - centres_[i]), -kBound, kBound));
         }
     }
 
@@ -169,7 +171,8 @@ struct TraceTables {
     // Largest transmittance over the grid (smallest k_s and k_f, every T_c).
     float maxTransmittance(const float* d_smoke, const float* d_flame) const {
         float best = 0.0f;
-        for (int a = 0; a < n_tc; ++a) best = std::max(best, expNonPositive(-ks[0] * d_smoke[a] - kf[0] * d_flame[a]));
+        for (int a = 0; a < n_tc; ++a)
+            best = std::max(best, expNonPositive(-ks[0] * d_smoke[a] - kf[0] * d_flame[a]));
         return best;
     }
     // The same from a grid of transmittances transmittance() wrote (no exponential).

@@ -1,19 +1,20 @@
 // The tracer's arithmetic shortcuts (bake/trace_tables.h) against the library functions they stand
 // in for: the vectorisable exponential and the one-exponential tanh ladder.
+#include "bake/trace_tables.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
 #include <vector>
 
-#include "bake/trace_tables.h"
-
 namespace firelook::bake {
 namespace {
 
 // Distance in units in the last place between two positive normal floats.
 std::int64_t ulps(float a, float b) {
-    return std::llabs(static_cast<std::int64_t>(std::bit_cast<std::int32_t>(a)) - std::bit_cast<std::int32_t>(b));
+    return std::llabs(static_cast<std::int64_t>(std::bit_cast<std::int32_t>(a)) -
+                      std::bit_cast<std::int32_t>(b));
 }
 
 TEST(TraceTables, ExpNonPositiveIsWithinTwoUlpOfStdExp) {
