@@ -109,6 +109,18 @@ TEST(RelightWeights, RefusesZeroAndNonFiniteDirections) {
     EXPECT_ERROR_CODE(firelook::ErrorCode::InvalidArgument, basis::checkedUnitDirection(light));
 }
 
+// Writes the synthetic frames of `shape` with description d (its lights set by the caller).
+void writeSynthetic(const std::filesystem::path& file, basis::BakeDescription d,
+                    const firelook::testing::SyntheticShape& shape) {
+    package::ContainerWriter writer(file, package::WriterOptions{1});
+    for (int frame : shape.frames) {
+        basis::writeFrameFactors(writer, d, firelook::testing::syntheticFrame(d, frame, shape.rank, 3));
+        d.frames.push_back({frame, shape.rank});
+    }
+    writer.addMetadata(basis::makeMetadata(d, R"({"provenance": {"tool": "relight_test"}})"));
+    writer.commit();
+}
+
 // A synthetic package: one scene light, then (with six_way) the six-way lights of tiltedSixWay().
 void writePackage(const std::filesystem::path& file, bool six_way) {
     firelook::testing::SyntheticShape shape;
@@ -119,13 +131,7 @@ void writePackage(const std::filesystem::path& file, bool six_way) {
         std::copy(six.begin(), six.end(), d.light_directions.begin() + 1);
         d.six_way_first_light = 1;
     }
-    package::ContainerWriter writer(file, package::WriterOptions{1});
-    for (int frame : shape.frames) {
-        basis::writeFrameFactors(writer, d, firelook::testing::syntheticFrame(d, frame, shape.rank, 3));
-        d.frames.push_back({frame, shape.rank});
-    }
-    writer.addMetadata(basis::makeMetadata(d, R"({"provenance": {"tool": "relight_test"}})"));
-    writer.commit();
+    writeSynthetic(file, d, shape);
 }
 
 class RelightApi : public ::testing::Test {
@@ -322,13 +328,7 @@ void writeSpherePackage(const std::filesystem::path& file) {
     d.sphere_first_light = 1;
     d.sphere_light_count = kSphere;
     d.sphere_triangles = basis::geodesicSphere(kSphere).triangles;
-    package::ContainerWriter writer(file, package::WriterOptions{1});
-    for (int frame : shape.frames) {
-        basis::writeFrameFactors(writer, d, firelook::testing::syntheticFrame(d, frame, shape.rank, 3));
-        d.frames.push_back({frame, shape.rank});
-    }
-    writer.addMetadata(basis::makeMetadata(d, R"({"provenance": {"tool": "relight_test"}})"));
-    writer.commit();
+    writeSynthetic(file, d, shape);
 }
 
 class RelightSphereApi : public RelightApi {
