@@ -215,8 +215,7 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
             most -= most % 2;
             // In double until capped: a target far below the noise asks for more chains than an int holds.
             int chains = static_cast<int>(std::min(std::ceil(wanted), static_cast<double>(most)));
-            chains += chains % 2;  // an even count keeps the noise sample's expectation zero
-            chains = std::min(chains, most);
+            chains += chains % 2;  // even keeps the noise sample's expectation zero; most is even too
             if (chains > 2) {
                 scattered.addChains(chains - 2, [&](double done) { gate.checkpoint(0.3 + 0.28 * done); });
                 noise = predict();
