@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <glm/gtc/type_ptr.hpp>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
@@ -53,7 +52,7 @@ SceneSetup resolveScene(const vdb::VdbSequence& sequence, const SceneOptions& op
     }
     if (options.six_way_lights && options.sphere_lights > 0)
         throw Error(ErrorCode::InvalidArgument, "--lights takes six-way or a sphere, not both");
-    const glm::dmat4 world_from_camera = glm::make_mat4(setup.camera.parameters().world_from_camera.data());
+    const glm::dmat4 world_from_camera = setup.camera.worldFromCamera();
     if (options.sphere_lights > 0) {
         setup.sphere_first_light = static_cast<int>(setup.light_directions.size());
         setup.sphere_triangles = basis::geodesicSphere(options.sphere_lights).triangles;

@@ -50,6 +50,8 @@ Camera::Camera(const CameraParameters& parameters) : parameters_(parameters) {
     inverse_height_ = 1.0 / parameters.height;
 }
 
+glm::dmat4 Camera::worldFromCamera() const { return toMatrix(parameters_.world_from_camera); }
+
 Camera Camera::fromWorldFromCamera(const glm::dmat4& world_from_camera, double yfov_radians, int width,
                                    int height) {
     return Camera(CameraParameters{toArray(world_from_camera), yfov_radians, width, height});

@@ -45,6 +45,8 @@ class Camera {
     }
 
     const CameraParameters& parameters() const { return parameters_; }
+    // parameters().world_from_camera as a matrix (world = it * camera).
+    glm::dmat4 worldFromCamera() const;
     int width() const { return parameters_.width; }
     int height() const { return parameters_.height; }
     const glm::dvec3& position() const { return position_; }

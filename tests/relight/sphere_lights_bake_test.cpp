@@ -6,13 +6,13 @@
 #include <cmath>
 #include <cstdio>
 #include <glm/geometric.hpp>
-#include <glm/gtc/type_ptr.hpp>
 #include <nlohmann/json.hpp>
 
 #include "bake/bake_config.h"
 #include "bake/bake_pipeline.h"
 #include "bake/basis_tracer.h"
 #include "bake/scene_setup.h"
+#include "added_lights_check.h"
 #include "bake_test_support.h"
 #include "basis/relight.h"
 #include "basis/sphere_lights.h"
@@ -25,12 +25,8 @@
 namespace firelook::bake {
 namespace {
 
-glm::dmat4 worldFromCamera(const render::Camera& camera) {
-    return glm::make_mat4(camera.parameters().world_from_camera.data());
-}
-
-// As the six-way lights (tests/bake/six_way_lights_test.cpp): photon paths and camera rays are drawn
-// independently of the columns, and the orders' stopping test ignores the sphere columns.
+// The bins and the scene's light are the same bytes with the sphere's lights added, as with the
+// six-way ones (tests/bake/added_lights_check.h).
 TEST(SphereLightsBake, LeaveEveryOtherColumnBitForBit) {
     const render::Medium medium = test::unitBox(2.0f, 0.6f);
     const render::Camera camera = test::headOnCamera(12, 30.0);
@@ -39,21 +35,11 @@ TEST(SphereLightsBake, LeaveEveryOtherColumnBitForBit) {
     sphere.sphere_first_light = 1;
     sphere.sphere_light_count = 12;
     sphere.sphere_triangles = basis::geodesicSphere(12).triangles;
-    for (const glm::dvec3& d : basis::sphereTravelDirections(worldFromCamera(camera), 12))
+    for (const glm::dvec3& d : basis::sphereTravelDirections(camera.worldFromCamera(), 12))
         sphere.light_directions.push_back(d);
-    const FrameBasis a = traceFrameBasis(medium, camera, plain, test::fastTrace());
-    const FrameBasis b = traceFrameBasis(medium, camera, sphere, test::fastTrace());
-    ASSERT_EQ(a.scattering_orders, b.scattering_orders);
-    const int pixels = a.width * a.height;
-    for (int p = 0; p < pixels; ++p)
-        for (int c = 0; c < plain.columnsPerPoint(); ++c)
-            ASSERT_EQ(test::basisValue(a, plain, p, 0, c), test::basisValue(b, sphere, p, 0, c))
-                << "pixel " << p << " column " << c;
-    for (int l = 0; l < 12; ++l) {
-        double sum = 0.0;
-        for (int p = 0; p < pixels; ++p) sum += test::basisValue(b, sphere, p, 0, plain.bins.count + 1 + l);
-        EXPECT_GT(sum, 0.0) << "sphere light " << l << " misses the box";
-    }
+    test::expectAddedLightsLeaveEveryOtherColumn(medium, camera, plain, sphere, 12, [](int l) {
+        return "sphere light " + std::to_string(l);
+    });
 }
 
 // --lights sphere[:N] in the bake's settings, the scene and the package's description: the sphere's
@@ -78,7 +64,7 @@ TEST(SphereLightsBake, SettingsSceneAndDescription) {
     ASSERT_EQ(scene.light_directions.size(), 13u);  // the default key light, then the sphere
     EXPECT_EQ(scene.sphere_first_light, 1);
     EXPECT_EQ(scene.six_way_first_light, -1);
-    const std::vector<glm::dvec3> travel = basis::sphereTravelDirections(worldFromCamera(scene.camera), 12);
+    const std::vector<glm::dvec3> travel = basis::sphereTravelDirections(scene.camera.worldFromCamera(), 12);
     for (int i = 0; i < 12; ++i)
         EXPECT_NEAR(glm::length(scene.light_directions[1 + i] - travel[i]), 0.0, 1e-15);
     const basis::BakeDescription d = describeBake(sequence, config, scene);
@@ -118,7 +104,7 @@ TEST(SphereLightsBake, InterpolationReproducesADirectionBetweenBakedOnes) {
     BasisModel model = test::basisModel(2, 0.7, {{1.4}, {6.0}, {1.5}});
     model.bins = {0.0, 3.0, 2};
     const basis::GeodesicSphere sphere = basis::geodesicSphere(42);
-    const std::vector<glm::dvec3> travel = basis::sphereTravelDirections(worldFromCamera(camera), 42);
+    const std::vector<glm::dvec3> travel = basis::sphereTravelDirections(camera.worldFromCamera(), 42);
     // Triangles 0 (next to "top"), 20, 45 and 70 (round the sides and below).
     std::vector<glm::dvec3> between;
     for (int t : {0, 20, 45, 70}) {
