@@ -54,9 +54,10 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         checkKeys(j, {"format", "version", "frames", "size", "bins", "t_lo", "t_hi", "rbf_width", "albedo", "axes",
                       "alpha_threshold_samples", "trace", "compression", "seed", "up", "density_grid",
                       "temperature_grid", "temperature_scale", "temperature_offset", "density_scale", "scene", "camera",
-                      "memory_budget", "lights", "fire_lights"},
+                      "memory_budget", "lights", "fire_lights", "quality"},
                   "the bake config");
         // "all" is how configToJson records every frame, so a package's recorded settings bake again.
+        if (j.contains("quality") && c.quality.empty()) applyQuality(c, j["quality"].get<std::string>());
         if (j.contains("frames")) c.frames = j["frames"].get<std::string>() == "all" ? "" : j["frames"].get<std::string>();
         if (j.contains("scene")) c.scene.scene_path = j["scene"].get<std::string>();
         if (j.contains("fire_lights")) c.fire_lights = j["fire_lights"].get<bool>();
@@ -109,7 +110,8 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             const json& t = j["trace"];
             checkKeys(t, {"cell_voxels", "max_cells_per_axis", "max_cell_optical_depth", "light_points_per_axis", "photons_primary",
                           "photons_per_order", "photon_noise_target", "max_photon_scale", "photon_pilot_share", "max_orders", "order_tolerance",
-                          "step_voxels", "footprint_step", "footprint_samples_per_axis"},
+                          "step_voxels", "footprint_step", "footprint_samples_per_axis",
+                          "radiance_samples_per_axis"},
                       "trace");
             c.trace.cell_voxels = t.value("cell_voxels", c.trace.cell_voxels);
             c.trace.max_cells_per_axis = t.value("max_cells_per_axis", c.trace.max_cells_per_axis);
@@ -125,6 +127,7 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             c.trace.order_tolerance = t.value("order_tolerance", c.trace.order_tolerance);
             c.trace.step_voxels = t.value("step_voxels", c.trace.step_voxels);
             c.trace.footprint_samples_per_axis = t.value("footprint_samples_per_axis", c.trace.footprint_samples_per_axis);
+            c.trace.radiance_samples_per_axis = t.value("radiance_samples_per_axis", c.trace.radiance_samples_per_axis);
         }
         if (j.contains("compression")) {
             const json& t = j["compression"];
@@ -148,11 +151,13 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         if (c.trace.step_voxels <= 0.0 || c.trace.cell_voxels < 1 || c.trace.photons_primary < 1 ||
             c.trace.max_cells_per_axis < 1 || !(c.trace.max_cell_optical_depth > 0.0) || c.trace.light_points_per_axis < 2 || !(c.trace.footprint_step >= 0.0) ||
             c.trace.photons_per_order < 1 || c.trace.footprint_samples_per_axis < 0 ||
-            c.trace.footprint_samples_per_axis > 8 || !(c.trace.photon_noise_target >= 0.0) ||
+            c.trace.footprint_samples_per_axis > 8 || c.trace.radiance_samples_per_axis < 0 ||
+            c.trace.radiance_samples_per_axis > 8 || !(c.trace.photon_noise_target >= 0.0) ||
             c.trace.max_photon_scale < 1 || c.trace.max_photon_scale > 64 ||
             !(c.trace.photon_pilot_share > 0.0 && c.trace.photon_pilot_share <= 1.0))
             throw Error(ErrorCode::InvalidArgument,
                         "trace settings must be positive (footprint_samples_per_axis 0..8, 0 = from the image size; "
+                        "radiance_samples_per_axis 0..8, 0 = half the footprint's, rounded up; "
                         "photon_noise_target >= 0, 0 = the photons as given; max_photon_scale 1..64; "
                         "photon_pilot_share in (0, 1])");
     } catch (const Error& e) {
@@ -195,6 +200,32 @@ uint64_t parseByteSize(const std::string& text) {
                     "(binary, e.g. 6G or 6GiB), got \"" +
                         text + "\"");
     return static_cast<uint64_t>(value * scale);
+}
+
+TraceSettings qualityTrace(const std::string& quality) {
+    TraceSettings t;
+    if (quality == "default") return t;
+    if (quality == "preview") {
+        t.step_voxels = 0.25;
+        t.photon_noise_target = 0.02;
+        t.photon_pilot_share = 0.25;
+        t.max_photon_scale = 2;
+        t.order_tolerance = 0.005;
+        return t;
+    }
+    if (quality == "final") {
+        t.radiance_samples_per_axis = 8;  // as many as the footprint's (at most 8)
+        t.photon_noise_target = 0.005;
+        t.max_photon_scale = 8;
+        t.order_tolerance = 0.001;
+        return t;
+    }
+    throw Error(ErrorCode::InvalidArgument, "quality must be preview, default or final, not \"" + quality + "\"");
+}
+
+void applyQuality(BakeConfig& config, const std::string& quality) {
+    config.trace = qualityTrace(quality);
+    config.quality = quality;
 }
 
 void applyLightsChoice(SceneOptions& scene, const std::string& lights) {
@@ -244,6 +275,8 @@ std::string configToJson(const BakeConfig& c) {
     if (c.axes.flame_extinction) j["axes"]["flame_extinction"] = *c.axes.flame_extinction;
     j["axes"]["collapse_unused"] = c.collapse_unused_axes;
     j["alpha_threshold_samples"] = c.alpha_threshold_samples;
+    // Only when set, so other bakes keep their settings hash; the trace keys below say the rest.
+    if (!c.quality.empty() && c.quality != "default") j["quality"] = c.quality;
     j["trace"] = {{"cell_voxels", c.trace.cell_voxels},
                   {"max_cells_per_axis", c.trace.max_cells_per_axis},
                   {"max_cell_optical_depth", c.trace.max_cell_optical_depth},
@@ -255,7 +288,8 @@ std::string configToJson(const BakeConfig& c) {
                   {"max_photon_scale", c.trace.max_photon_scale},
                   {"photon_pilot_share", c.trace.photon_pilot_share}, {"max_orders", c.trace.max_orders},
                   {"order_tolerance", c.trace.order_tolerance},   {"step_voxels", c.trace.step_voxels},
-                  {"footprint_samples_per_axis", c.trace.footprint_samples_per_axis}};
+                  {"footprint_samples_per_axis", c.trace.footprint_samples_per_axis},
+                  {"radiance_samples_per_axis", c.trace.radiance_samples_per_axis}};
     j["compression"] = {{"target_relative_error", c.compression.target_relative_error},
                         {"max_rank", c.compression.max_rank},
                         {"alpha_error", c.storage.alpha_error},

@@ -34,6 +34,9 @@ struct BakeConfig {
     // JSON: "axes": {"collapse_unused": false}; firelook bake --keep-axes.
     bool collapse_unused_axes = true;
     int alpha_threshold_samples = 21;  // T_c samples of the per-pixel optical depths (exact alpha)
+    // The preset `trace` started from (applyQuality; empty: the defaults). A bake.json's "trace"
+    // keys then change single settings of it.
+    std::string quality;
     TraceSettings trace;
     CompressionSettings compression;
     // How precisely the package stores each frame (JSON: under "compression").
@@ -51,8 +54,21 @@ struct BakeConfig {
 };
 
 // Applies the keys present in a bake.json; unknown keys are an error (a typo
-// in a bake setting should not silently bake the wrong thing).
+// in a bake setting should not silently bake the wrong thing). Its "quality" is applied first, and
+// only when config.quality is still empty (firelook bake --quality wins over the file).
 void applyConfigFile(BakeConfig& config, const std::filesystem::path& file);
+
+// The trace settings of a quality preset (firelook bake --quality, bake.json "quality"; what each
+// costs and reaches: docs/bake-config.md):
+//   "preview": fewer seconds, for looks being designed: a 0.25-voxel step, photon noise up to 2%
+//              with chains of a quarter of the photons, orders until 0.5% is left;
+//   "default": TraceSettings as declared (issue 27's accuracy bars, scripts/bench/accuracy.sh);
+//   "final":   every footprint ray carries radiance, photon noise up to 0.5% (up to 8 times the
+//              photons), orders until 0.1% is left.
+// Anything else is an InvalidArgument Error naming the three.
+TraceSettings qualityTrace(const std::string& quality);
+// config.quality = quality and config.trace = qualityTrace(quality).
+void applyQuality(BakeConfig& config, const std::string& quality);
 
 // Throws an InvalidArgument Error when both targets are given or the error is not in (0, 1).
 void checkStorageTarget(const StorageTarget& target);

@@ -157,7 +157,9 @@ nlohmann::ordered_json errorsEntry(const FrameBakeReport& fr) {
             {"scattering_tail_fraction", fr.tail_fraction},
             {"photon_chains", fr.photon_chains},
             {"photon_multiple", fr.photon_multiple},
-            {"predicted_photon_noise", fr.predicted_photon_noise}};
+            {"predicted_photon_noise", fr.predicted_photon_noise},
+            {"radiance_quadrature_error", fr.radiance_quadrature_error},
+            {"predicted_look_error", fr.predictedLookError()}};
     if (fr.has_target) entry["storage_target"] = storageTargetEntry(fr);
     return entry;
 }
@@ -183,6 +185,7 @@ FrameBakeReport reportFromMetadata(int frame, const FrameMetadata& kept) {
     fr.tail_fraction = e.value("scattering_tail_fraction", 0.0);  // packages before 2026-12-03 lack it
     fr.photon_chains = e.value("photon_chains", 0);                // and before 2026-12-06 these
     fr.predicted_photon_noise = e.value("predicted_photon_noise", 0.0);
+    fr.radiance_quadrature_error = e.value("radiance_quadrature_error", 0.0);  // before 2026-12-06's radiance rays
     // Before the pilot chains (2026-12-06) every chain held half the settings' photons.
     fr.photon_multiple = e.value("photon_multiple", 0.5 * fr.photon_chains);
     if (e.contains("storage_target")) {
@@ -249,6 +252,23 @@ nlohmann::ordered_json sharedMetadata(const SequencePlan& plan, const vdb::VdbSe
     return nlohmann::ordered_json::parse(basis::makeMetadata(without_frames, extra.dump()));
 }
 
+// One line: what the trace settings (a quality preset, changed by bake.json's keys) choose for this
+// image size, each error source's setting.
+std::string describeTraceChoice(const BakeConfig& config, const basis::BakeDescription& description) {
+    const TraceSettings& t = config.trace;
+    const int n = footprintSamplesPerAxis(t, description.width, description.height);
+    const int m = radianceSamplesPerAxis(t, n);
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "trace (%s quality): %dx%d footprint rays a pixel for alpha, %dx%d of them for radiance; march "
+                  "step %g voxel; photon noise target %g%% (chains of %g of the photons, up to %dx); scattering "
+                  "orders until %g%% is left",
+                  config.quality.empty() ? "default" : config.quality.c_str(), n, n, m, m, t.step_voxels,
+                  100.0 * t.photon_noise_target, t.photon_pilot_share * 0.5, t.max_photon_scale,
+                  100.0 * t.order_tolerance);
+    return line;
+}
+
 }  // namespace
 
 BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::path& output,
@@ -294,6 +314,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
             for (const AxisCollapse& c : report.axes.collapsed) notice(describeAxisCollapse(c, report.axes));
     }
     const BasisModel model = description;
+    if (notice) notice(describeTraceChoice(config, description));
     const nlohmann::ordered_json shared =
         sharedMetadata(*plan, sequence, config, tool_version, scene, description, report);
 
@@ -383,6 +404,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         fr.photon_chains = traced.photon_chains;
         fr.photon_multiple = traced.photon_multiple;
         fr.predicted_photon_noise = traced.predicted_photon_noise;
+        fr.radiance_quadrature_error = traced.radiance_quadrature_error;
         fr.setup_seconds = traced.seconds_setup;
         fr.light_seconds = traced.seconds_light;
         fr.photon_seconds = traced.seconds_photons;

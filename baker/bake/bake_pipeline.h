@@ -2,6 +2,7 @@
 // (memory bounded by one frame's basis matrix), written atomically.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -36,6 +37,17 @@ struct FrameBakeReport {
     int photon_chains = 0;             // independent photon chains traced
     double photon_multiple = 0.0;      // photons traced / the photons the settings name
     double predicted_photon_noise = 0.0;  // the worst column's predicted photon noise (photon_noise.h)
+    // The radiance rays' quadrature error (relative Frobenius), measured on every 16th pixel
+    // (FrameBasis::radiance_quadrature_error; 0 when every footprint ray carries radiance).
+    double radiance_quadrature_error = 0.0;
+    // What the bake predicts for a look's relative RMSE: the SVD and storage error, the photon noise
+    // (its worst column's) and the quadrature error together in quadrature; meant as an upper bound
+    // on the looks bench measures (scripts/bench/accuracy.sh). The march step's bias is not in it.
+    double predictedLookError() const {
+        return std::sqrt(truncation_error * truncation_error + quantisation_error * quantisation_error +
+                         predicted_photon_noise * predicted_photon_noise +
+                         radiance_quadrature_error * radiance_quadrature_error);
+    }
     double trace_seconds = 0.0;
     double compress_seconds = 0.0;
     // What the memory plan chose and estimated before tracing (frameMemoryPlan).

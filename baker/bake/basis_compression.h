@@ -2,11 +2,15 @@
 // factors stored in the package (docs/model.md).
 //
 // Method: the Gram matrix B^T B is accumulated in double precision and
-// eigen-decomposed (Eigen's SelfAdjointEigenSolver); V and S come from it and
-// U = B V S^-1. Cost is linear in the number of pixels and quadratic in the
-// number of columns (a few thousand at most), so it scales with image size; in
-// double precision, singular values down to ~1e-7 of the largest are resolved,
-// far below any truncation target we use.
+// eigen-decomposed; V and S come from it and U = B V S^-1. In double precision,
+// singular values down to ~1e-7 of the largest are resolved, far below any
+// truncation target we use. A frame keeps at most max_rank (128) of its
+// columns' 1000-6000 singular vectors, so only the leading eigenpairs are
+// computed (Spectra's Lanczos solver, libspectra-dev) where the columns are
+// many: a dense solver's cost is cubic in the columns (a 5664-column frame with
+// sphere lights: minutes), the leading pairs' about rank x columns^2. The
+// dropped energy is then the Gram matrix's trace less the leading eigenvalues:
+// the truncation error stays exact.
 #pragma once
 
 #include <vector>
@@ -25,7 +29,9 @@ struct CompressedFrame {
     basis::FrameFactors factors;
     double truncation_error = 0.0;    // relative Frobenius error of the rank-k truncation (of B D)
     double quantisation_error = 0.0;  // relative Frobenius error added by storing U in half precision
-    std::vector<double> singular_values;  // all of them, descending
+    // Descending: the leading ones the spectrum holds, then (where it holds fewer than the columns)
+    // one value whose square is the energy of all the others, so the total is still their sum.
+    std::vector<double> singular_values;
     std::vector<double> column_quantisation;  // per kept column, its share of quantisation_error^2
 };
 
@@ -43,11 +49,19 @@ struct BasisSources {
 struct FrameSpectrum {
     int columns = 0;
     std::vector<double> balance;       // D, one factor per column (1 without sources)
-    std::vector<double> eigenvectors;  // columns x columns, column-major, in the eigenvalues' order
-    std::vector<double> eigenvalues;   // ascending, clamped at 0 (rounding can dip below)
-    double total = 0.0;                // ||B D||_F^2
+    std::vector<double> eigenvectors;  // columns x eigenvalues.size(), column-major, in the eigenvalues' order
+    // The leading eigenvalues (all of them where SpectrumNeeds asks for all), ascending: the
+    // largest is the last. Clamped at 0 (rounding can dip below).
+    std::vector<double> eigenvalues;
+    double total = 0.0;                // ||B D||_F^2, the trace of the Gram matrix
 };
-FrameSpectrum frameSpectrum(const FrameBasis& basis, const BasisSources& sources = {});
+// Which eigenpairs a spectrum must hold: those of every truncation to at most max_rank columns
+// whose relative error is at least finest_error. max_rank 0: all of them.
+struct SpectrumNeeds {
+    double finest_error = 0.0;
+    int max_rank = 0;
+};
+FrameSpectrum frameSpectrum(const FrameBasis& basis, const BasisSources& sources = {}, const SpectrumNeeds& needs = {});
 
 // The smallest rank (at most max_rank) whose dropped energy is within the target relative error.
 int truncationRank(const FrameSpectrum& spectrum, const CompressionSettings& settings);

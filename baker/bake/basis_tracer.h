@@ -134,6 +134,12 @@ struct TraceSettings {
     // image size, footprintSamplesPerAxis(): the footprint quadrature's alpha error grows as
     // the pixels do, and the bake's alpha bar is 0.005 at every size.
     int footprint_samples_per_axis = 0;
+    // Of those, how many (m x m, cell-centred in the same footprint) gather the pixel's radiance;
+    // the other rays march for alpha's optical depths only, which is several times cheaper. The
+    // radiance is a pixel's mean as alpha is, but linear in what each ray carries where alpha is
+    // not (mean(1 - exp(-tau)) is steep at a silhouette), so fewer rays hold it to the same error.
+    // 0 (the default) takes m = ceil(n / 2), radianceSamplesPerAxis(); m is at most n.
+    int radiance_samples_per_axis = 0;
     // Bytes the trace may use for what it can size (the scattered-light cells): 0 = no limit.
     // planFrameTrace() coarsens the cells until they fit.
     std::uint64_t memory_budget_bytes = 0;
@@ -164,6 +170,9 @@ struct TracePlan {
 // error at n = 3 / 4 was 0.0032 / 0.0017 at 256x256, 0.0055 / 0.0031 at 128x128, and 0.0116 / ...
 // at 64x64, so 3 from 256 pixels on the short side, 4 from 128, 5 below.
 int footprintSamplesPerAxis(const TraceSettings& settings, int width, int height);
+// The m of a pixel's m x m radiance rays (TraceSettings::radiance_samples_per_axis), for n x n
+// footprint rays.
+int radianceSamplesPerAxis(const TraceSettings& settings, int footprint_per_axis);
 
 TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& camera, const BasisModel& model,
                          const TraceSettings& settings);
@@ -173,7 +182,11 @@ struct FrameBasis {
     int height = 0;
     int columns = 0;
     std::vector<float> matrix;          // pixels x columns, pixel-major; column = point * C + c
-    int footprint_samples = 1;          // rays per pixel
+    int footprint_samples = 1;          // rays per pixel for alpha's optical depths
+    int radiance_samples = 1;           // rays per pixel for its radiance
+    // With fewer radiance rays than footprint rays: the relative Frobenius error of the basis's
+    // radiance against all the footprint rays', on every 16th pixel (0 when they are the same rays).
+    double radiance_quadrature_error = 0.0;
     std::vector<float> depth_b;   // O_b: footprint sample x pixel
     std::vector<float> depth_a;   // O_a: footprint sample x alpha threshold x pixel
     int scattering_orders = 0;          // orders traced

@@ -36,13 +36,15 @@ void CameraMarch::beginPixel() {
     direct_added_ = false;
 }
 
-bool CameraMarch::marchPixelRay(int px, int py, double u, double v, int rays_per_axis, float weight,
-                                double& depth_b, double* depth_a) {
+bool CameraMarch::marchPixelRay(int px, int py, double u, double v, int rays_per_axis, float radiance_weight,
+                                double* depth_b, double* depth_a) {
     const render::Ray world_ray = camera_.generateRay(px, py, u, v);
     const IndexRay ray = toIndexSpace(medium_, world_ray.origin, world_ray.direction);
     double t0, t1;
     if (!clipToBox(ray, box_, t0, t1)) return false;
-    direct_added_ = true;
+    const bool radiance = radiance_weight > 0.0f, depths = depth_b != nullptr;
+    const float weight = radiance_weight;
+    if (radiance) direct_added_ = true;
     const double step = std::max(min_step_, footprint_step_ * pixel_angle_ * t0 / rays_per_axis);
     const TraceTables& tb = tb_;
     const int G = tb.points;
@@ -53,18 +55,20 @@ bool CameraMarch::marchPixelRay(int px, int py, double u, double v, int rays_per
     std::fill(d_smoke, d_smoke + tb.n_tc, 0.0f);
     std::fill(d_flame, d_flame + tb.n_tc, 0.0f);
     std::fill(tau_.begin(), tau_.end(), 1.0f);
-    bool visible = true;  // some grid point still sees through to here
-    depth_b = 0.0;
-    std::fill(depth_a, depth_a + tb.n_alpha, 0.0);
+    bool visible = radiance;  // some grid point still sees through to here
+    double depth_sum = 0.0;
+    if (depths) std::fill(depth_a, depth_a + tb.n_alpha, 0.0);
     // The light a step removes from the view, tau_start - tau_end = sigma_t * path, is what its
     // scattering sources are weighted by (albedo times that, stepPathLength).
     const float light_weight = tb.albedo * kInv4Pi * weight;
     bake::march(medium_, ray, t0, t1, step, [&](const glm::dvec3& p, float dt, float rho, float t) {
         if (!(rho > 0.0f)) return true;
-        depth_b += double(rho) * dt;
-        tb.alphaSigmoids(t, sigmoid_.data());
-        for (int a = 0; a < tb.n_alpha; ++a) depth_a[a] += double(rho) * sigmoid_[a] * dt;
-        if (!visible) return true;  // only the optical depths are still needed
+        if (depths) {
+            depth_sum += double(rho) * dt;
+            tb.alphaSigmoids(t, sigmoid_.data());
+            for (int a = 0; a < tb.n_alpha; ++a) depth_a[a] += double(rho) * sigmoid_[a] * dt;
+        }
+        if (!visible) return depths;  // only the optical depths are still needed, if any
         tb.split(rho, t, smoke, flame);
         tb.advanceDepths(smoke, flame, dt, d_smoke, d_flame);
         tb.transmittance(d_smoke, d_flame, tau_next_.data());
@@ -119,8 +123,9 @@ bool CameraMarch::marchPixelRay(int px, int py, double u, double v, int rays_per
         }
         tau_.swap(tau_next_);
         visible = tb.maxTransmittance(tau_.data()) > kNegligibleTransmittance;
-        return true;
+        return visible || depths;
     });
+    if (depths) *depth_b = depth_sum;
     return true;
 }
 

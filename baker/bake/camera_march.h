@@ -30,12 +30,16 @@ class CameraMarch {
 
     // Forgets the cells gathered for the previous pixel.
     void beginPixel();
-    // Marches the camera ray through (px + u, py + v), one of rays_per_axis^2 footprint rays of its
-    // pixel: adds `weight` times the ray's direct integrals and the gathered cells' weights to the
-    // pixel's; depth_b and depth_a[alpha] get the ray's optical depths (not weighted). False, with
-    // nothing added or written, when the ray misses the volume.
-    bool marchPixelRay(int px, int py, double u, double v, int rays_per_axis, float weight, double& depth_b,
-                       double* depth_a);
+    // Marches the camera ray through (px + u, py + v); its step is that of one of rays_per_axis^2
+    // footprint rays of its pixel. A ray gathers radiance, optical depths or both (the bake's alpha
+    // needs more rays a pixel than its radiance: TraceSettings::radiance_samples_per_axis):
+    // - radiance_weight > 0: adds that times the ray's direct integrals and the gathered cells'
+    //   weights to the pixel's; 0: none (a depth-only ray, several times cheaper);
+    // - depth_b and depth_a (both or neither null) get the ray's optical depths, not weighted: b's,
+    //   and per alpha threshold. A radiance-only ray stops where no grid point sees further.
+    // False, with nothing added or written, when the ray misses the volume.
+    bool marchPixelRay(int px, int py, double u, double v, int rays_per_axis, float radiance_weight,
+                       double* depth_b, double* depth_a);
     // row (points x columns) += the direct integrals of the rays marched since beginPixel.
     void addDirect(float* row) const;
     // row += for every cell gathered since beginPixel: its weights times field (slots x points x columns).

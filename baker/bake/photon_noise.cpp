@@ -29,7 +29,6 @@ double predictPhotonNoise(const PhotonNoiseInputs& in, const std::vector<float>&
         CameraMarch ray_march(in.medium, tb, in.cells, in.light_depths, in.camera, in.min_step, in.footprint_step,
                               true);
         std::vector<float> direct(GC), scattered(GC), noisy(GC);
-        std::vector<double> depth_a(tb.n_alpha);
         double* v2 = value2.data() + static_cast<std::size_t>(r) * GC;
         double* n2 = noise2.data() + static_cast<std::size_t>(r) * GC;
         const int py = std::min(height - 1, r * stride + stride / 2);
@@ -38,10 +37,9 @@ double predictPhotonNoise(const PhotonNoiseInputs& in, const std::vector<float>&
             std::fill(direct.begin(), direct.end(), 0.0f);
             std::fill(scattered.begin(), scattered.end(), 0.0f);
             std::fill(noisy.begin(), noisy.end(), 0.0f);
-            double depth_b = 0.0;
             ray_march.beginPixel();
             // The pixel's centre ray, with the bake's step for one ray per pixel.
-            if (!ray_march.marchPixelRay(px, py, 0.5, 0.5, 1, 1.0f, depth_b, depth_a.data())) continue;
+            if (!ray_march.marchPixelRay(px, py, 0.5, 0.5, 1, 1.0f, nullptr, nullptr)) continue;
             ray_march.addDirect(direct.data());
             ray_march.contract(lbar, scattered.data());
             ray_march.contract(noise, noisy.data());

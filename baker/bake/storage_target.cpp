@@ -87,6 +87,14 @@ FramePrecision finish(Candidate&& c, int candidates, double quality_scale, bool 
     return out;
 }
 
+double qOfStep(int k) { return std::exp2(double(k) / kStepsPerOctave); }
+
+// An error target's finest truncation: what is left of it beside the largest storage share.
+double finestTruncationForError(double target) {
+    const double largest = kStorageShares[std::size(kStorageShares) - 1];
+    return target * std::sqrt(1.0 - largest * largest);
+}
+
 // Where a frame's factors come from: the spectrum that sizes the truncation, and the factors cut to
 // a rank (the traced basis decomposed at that rank, or a stored frame's leading columns).
 struct FrameSource {
@@ -99,8 +107,7 @@ FramePrecision forError(const FrameSource& source, const CompressionSettings& co
     const FrameSpectrum& spectrum = source.spectrum;
     // U once, at the largest rank any split needs (the smallest truncation share).
     CompressionSettings finest = compression;
-    finest.target_relative_error = target * std::sqrt(1.0 - kStorageShares[std::size(kStorageShares) - 1] *
-                                                                 kStorageShares[std::size(kStorageShares) - 1]);
+    finest.target_relative_error = finestTruncationForError(target);
     const CompressedFrame full = source.factors(truncationRank(spectrum, finest));
     // The fewest bytes among the splits that meet the target; if none does (the rank cap), the
     // smallest predicted error.
@@ -134,7 +141,7 @@ FramePrecision forError(const FrameSource& source, const CompressionSettings& co
 FramePrecision forSize(const FrameSource& source, const CompressionSettings& compression,
                        const basis::FrameCodecSettings& storage, uint64_t share, CandidateEncoder& encoder) {
     const FrameSpectrum& spectrum = source.spectrum;
-    const auto scale = [](int k) { return std::exp2(double(k) / kStepsPerOctave); };
+    const auto scale = qOfStep;
     CompressionSettings finest = compression;
     finest.target_relative_error *= scale(kLowest);
     const CompressedFrame full = source.factors(truncationRank(spectrum, finest));
@@ -195,7 +202,12 @@ FramePrecision chooseFramePrecision(const FrameBasis& basis, int frame, const ba
                                     const CompressionSettings& compression, const basis::FrameCodecSettings& storage,
                                     const StorageTarget& target, uint64_t frame_share_bytes,
                                     const std::function<bool()>& keep_going) {
-    const FrameSpectrum spectrum = frameSpectrum(basis, {description.columnsPerPoint(), description.bins.count});
+    // The finest truncation any candidate below tries: the spectrum need hold no more pairs.
+    const double finest = target.basis_error > 0.0    ? finestTruncationForError(target.basis_error)
+                          : target.package_bytes > 0 ? compression.target_relative_error * qOfStep(kLowest)
+                                                     : compression.target_relative_error;
+    const FrameSpectrum spectrum = frameSpectrum(basis, {description.columnsPerPoint(), description.bins.count},
+                                                 {finest, compression.max_rank});
     CandidateEncoder encoder(description, keep_going, target.active());
     const FrameSource source{spectrum, [&](int rank) { return compressFrameBasis(basis, frame, spectrum, rank); }};
     if (target.basis_error > 0.0) return forError(source, compression, storage, target.basis_error, encoder);

@@ -44,6 +44,8 @@ void writeReportJson(const std::string& path, const std::string& sequence, const
                           {"photon_chains", f.photon_chains},
                           {"photon_multiple", f.photon_multiple},
                           {"predicted_photon_noise", f.predicted_photon_noise},
+                          {"radiance_quadrature_error", f.radiance_quadrature_error},
+                          {"predicted_look_error", f.predictedLookError()},
                           {"trace_seconds", f.trace_seconds},
                           {"trace_stage_seconds",
                            {{"cells_and_sources", f.setup_seconds},
@@ -106,7 +108,7 @@ void writePlan(const std::string& sequence_path, const std::string& output, cons
 
 void registerBakeCommand(CLI::App& app) {
     struct Args {
-        std::string sequence, output, frames, report_json, memory_budget, plan;
+        std::string sequence, output, frames, report_json, memory_budget, plan, quality;
         StorageTargetFlags target;
         uint64_t seed = 1;
         int threads = 0;
@@ -131,6 +133,12 @@ void registerBakeCommand(CLI::App& app) {
                           "the table and --report say what was chosen and the error it predicts)",
                           "store each frame's basis within this relative error (SVD truncation and storage together, "
                           "e.g. 0.003), in the fewest bytes; the depths for alpha keep their own bound");
+    cmd->add_option("--quality", args->quality,
+                    "trace settings for an error: preview (about a third of the seconds, for designing looks), "
+                    "default, or final (less photon noise, every footprint ray carries radiance); a --config file's "
+                    "\"trace\" keys change single settings of it. The table's 'look err' is the error the bake "
+                    "predicts (docs/bake-config.md)")
+        ->check(CLI::IsMember({"preview", "default", "final"}));
     cmd->add_flag("--keep-axes", args->keep_axes,
                   "bake every sample of every look axis, even an axis whose samples cannot change any frame "
                   "(by default such an axis is baked at one sample and the bake says so)");
@@ -156,7 +164,7 @@ void registerBakeCommand(CLI::App& app) {
         ->check(CLI::NonNegativeNumber);
     addSceneFlags(*cmd, args->scene);
     cmd->callback([cmd, args] {
-        bake::BakeConfig config = makeBakeConfig(*cmd, args->scene);
+        bake::BakeConfig config = makeBakeConfig(*cmd, args->scene, args->quality);
         if (args->plan_only) return writePlan(args->sequence, args->output, config);
         if (!args->frames.empty()) config.frames = args->frames;
         if (cmd->count("--seed") || args->scene.config.empty()) config.seed = args->seed;
@@ -202,16 +210,18 @@ void registerBakeCommand(CLI::App& app) {
             std::printf("target error %.2e per frame (svd and storage together: 'pred err')\n", config.target.basis_error);
         const bool sized = config.target.package_bytes > 0;
         // "photons": the multiple of the settings' photons the noise target asked for; "noise": the
-        // photon noise it predicts for the worst column's image (relative RMSE).
-        std::printf("%6s %5s %10s %10s %10s %9s %9s %9s %9s %7s %8s %8s %9s %9s%s\n", "frame", "rank", "svd err",
-                    "store err", "pred err", "alpha err", "KiB", "U KiB", "depth KiB", "orders", "photons", "noise %",
-                    "trace s", "svd s", sized ? "      q" : "");
+        // photon noise it predicts for the worst column's image (relative RMSE); "quad": the radiance
+        // rays' quadrature error, measured; "look err": all of a look's predicted error together.
+        std::printf("%6s %5s %10s %10s %10s %9s %9s %9s %9s %7s %8s %8s %7s %9s %9s %9s%s\n", "frame", "rank",
+                    "svd err", "store err", "pred err", "alpha err", "KiB", "U KiB", "depth KiB", "orders", "photons",
+                    "noise %", "quad %", "look err %", "trace s", "svd s", sized ? "      q" : "");
         for (const bake::FrameBakeReport& f : report.frames) {
-            std::printf("%6d %5d %10.2e %10.2e %10.2e %9.1e %9.1f %9.1f %9.1f %7d %7.2fx %8.2f %9.1f %9.1f", f.frame,
-                        f.rank, f.truncation_error, f.quantisation_error,
+            std::printf("%6d %5d %10.2e %10.2e %10.2e %9.1e %9.1f %9.1f %9.1f %7d %7.2fx %8.2f %7.2f %10.2f %9.1f %9.1f",
+                        f.frame, f.rank, f.truncation_error, f.quantisation_error,
                         std::hypot(f.truncation_error, f.quantisation_error), f.alpha_storage_bound,
                         (f.u_bytes + f.svt_bytes + f.depth_bytes) / 1024.0, f.u_bytes / 1024.0, f.depth_bytes / 1024.0,
-                        f.scattering_orders, f.photon_multiple, 100.0 * f.predicted_photon_noise, f.trace_seconds,
+                        f.scattering_orders, f.photon_multiple, 100.0 * f.predicted_photon_noise,
+                        100.0 * f.radiance_quadrature_error, 100.0 * f.predictedLookError(), f.trace_seconds,
                         f.compress_seconds);
             if (sized) std::printf(" %6.3f", f.quality_scale);
             const double noise_target = config.trace.photon_noise_target;

@@ -248,6 +248,8 @@ bake::TraceSettings traceSettingsOf(const ordered_json& metadata) {
     t.order_tolerance = s.at("order_tolerance");
     t.step_voxels = s.at("step_voxels");
     t.footprint_samples_per_axis = s.value("footprint_samples_per_axis", 1);
+    // Before the radiance rays were counted apart, every footprint ray carried radiance (8: as many as n).
+    t.radiance_samples_per_axis = s.value("radiance_samples_per_axis", 8);
     return t;
 }
 
@@ -497,14 +499,22 @@ void registerBenchCommand(CLI::App& app) {
             summary["bake_seconds"] = bake_report.at("seconds");
             summary["bake_peak_memory_mib"] = bake_report.at("peak_memory_mib");
         }
-        // What the bake predicted for its photon noise (the worst column of the frames benched), beside
-        // what the split measures: a look's tracing error without the reference's noise.
-        std::optional<double> predicted;  // none for packages baked before the prediction
-        for (const ordered_json& e : metadata.value("errors", ordered_json::array()))
-            if (e.contains("predicted_photon_noise") &&
-                std::find(frames.begin(), frames.end(), e.at("frame").get<int>()) != frames.end())
-                predicted = std::max(predicted.value_or(0.0), e.at("predicted_photon_noise").get<double>());
-        summary["predicted_photon_noise"] = predicted ? ordered_json(*predicted) : ordered_json(nullptr);
+        // What the bake predicted (the largest over the frames benched; none for packages baked before
+        // the prediction): its photon noise, beside what the split measures (a look's tracing error
+        // without the reference's noise), and a look's whole error, beside the worst look measured.
+        const auto predicted = [&](const char* key) {
+            std::optional<double> largest;
+            for (const ordered_json& e : metadata.value("errors", ordered_json::array()))
+                if (e.contains(key) && std::find(frames.begin(), frames.end(), e.at("frame").get<int>()) != frames.end())
+                    largest = std::max(largest.value_or(0.0), e.at(key).get<double>());
+            return largest ? ordered_json(*largest) : ordered_json(nullptr);
+        };
+        summary["predicted_photon_noise"] = predicted("predicted_photon_noise");
+        summary["predicted_look_error"] = predicted("predicted_look_error");
+        summary["within_predicted_look_error"] =
+            summary["predicted_look_error"].is_null()
+                ? ordered_json(nullptr)
+                : ordered_json(maxOf(corrected) <= summary["predicted_look_error"].get<double>());
         if (args->split)
             summary["split_median"] = {{"tracing_vs_reference", median(e_trace)},
                                        {"tracing_noise_corrected", median(e_trace_corrected)},

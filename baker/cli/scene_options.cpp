@@ -26,8 +26,9 @@ void addSceneFlags(CLI::App& command, SceneFlags& flags) {
     addSequenceFlags(command, flags.sequence);
 }
 
-bake::BakeConfig makeBakeConfig(const CLI::App& command, const SceneFlags& flags) {
+bake::BakeConfig makeBakeConfig(const CLI::App& command, const SceneFlags& flags, const std::string& quality) {
     bake::BakeConfig config;
+    if (!quality.empty()) bake::applyQuality(config, quality);
     if (!flags.config.empty()) bake::applyConfigFile(config, flags.config);
     const auto given = [&](const char* name) { return command.count(name) > 0; };
     if (given("--size") || flags.config.empty())

@@ -27,7 +27,8 @@ void addSceneFlags(CLI::App& command, SceneFlags& flags);
 
 // Defaults, then the --config file, then explicit flags (flags win). config.read carries the
 // sequence flags and the warning sink (sequence_options.h), so whatever reads the sequence with it
-// (bakePackage, the reference) reports and refuses alike.
-bake::BakeConfig makeBakeConfig(const CLI::App& command, const SceneFlags& flags);
+// (bakePackage, the reference) reports and refuses alike. A quality preset (bake --quality) is
+// applied before the file, whose "trace" keys then change single settings of it.
+bake::BakeConfig makeBakeConfig(const CLI::App& command, const SceneFlags& flags, const std::string& quality = {});
 
 }  // namespace firelook::cli

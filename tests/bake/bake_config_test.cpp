@@ -151,6 +151,8 @@ TEST(BakeConfig, ErrorsNameTheFileAndTheProblem) {
     expectError(R"({"trace": {"step_voxels": 0}})", "trace");
     expectError(R"({"trace": {"photon_pilot_share": 0}})", "photon_pilot_share");
     expectError(R"({"trace": {"photon_pilot_share": 1.5}})", "photon_pilot_share");
+    expectError(R"({"trace": {"radiance_samples_per_axis": 9}})", "radiance_samples_per_axis");
+    expectError(R"({"quality": "best"})", "preview, default or final");
     expectError(R"({"up": "x"})", "up");
     expectError(R"({"camera": [0, 0, 10, 0, 0, 0]})", "camera");
 
@@ -161,6 +163,43 @@ TEST(BakeConfig, ErrorsNameTheFileAndTheProblem) {
     } catch (const std::runtime_error& e) {
         EXPECT_NE(std::string(e.what()).find("missing.json"), std::string::npos) << e.what();
     }
+}
+
+// A quality preset sets the trace settings (baker/bake/bake_config.h); a file's "trace" keys change
+// single settings of it, and firelook bake --quality (applied before the file) wins over its key.
+TEST(BakeConfig, QualityPresetsAndTheirOverrides) {
+    TempDir dir;
+    const TraceSettings defaults;
+    const TraceSettings preview = qualityTrace("preview"), final_ = qualityTrace("final");
+    BakeConfig named_default;
+    applyQuality(named_default, "default");
+    EXPECT_EQ(configToJson(named_default), configToJson(BakeConfig()))
+        << "default is the declared settings, recorded the same";
+    EXPECT_GT(preview.step_voxels, defaults.step_voxels);
+    EXPECT_GT(preview.photon_noise_target, defaults.photon_noise_target);
+    EXPECT_LT(preview.photon_pilot_share, defaults.photon_pilot_share);
+    EXPECT_LT(final_.photon_noise_target, defaults.photon_noise_target);
+    EXPECT_EQ(radianceSamplesPerAxis(final_, 4), 4) << "final: every footprint ray carries radiance";
+    EXPECT_EQ(radianceSamplesPerAxis(defaults, 4), 2);
+
+    const BakeConfig from_file = apply(dir, R"({"quality": "preview", "trace": {"step_voxels": 0.2}})");
+    EXPECT_EQ(from_file.quality, "preview");
+    EXPECT_EQ(from_file.trace.photon_noise_target, preview.photon_noise_target);
+    EXPECT_EQ(from_file.trace.step_voxels, 0.2) << "the file's trace key changes the preset";
+
+    BakeConfig flag;
+    applyQuality(flag, "final");
+    applyConfigFile(flag, writeConfig(dir, R"({"quality": "preview"})"));
+    EXPECT_EQ(flag.quality, "final") << "the flag wins over the file's key";
+    EXPECT_EQ(flag.trace.photon_noise_target, final_.photon_noise_target);
+
+    // Recorded with the preset's name and every trace key: baked again, the same settings.
+    const std::string recorded = configToJson(from_file);
+    EXPECT_EQ(nlohmann::json::parse(recorded).at("quality"), "preview");
+    BakeConfig again;
+    applyConfigFile(again, writeConfig(dir, recorded));
+    EXPECT_EQ(configToJson(again), recorded);
+    EXPECT_THROW(qualityTrace("fast"), std::runtime_error);
 }
 
 TEST(BakeConfig, ConfigToJsonRecordsTheSettings) {

@@ -204,6 +204,51 @@ TEST(BasisTracer, FootprintRaysFollowTheImageSizeUnlessGiven) {
     EXPECT_EQ(traceFrameBasis(box.medium, box.camera, box.model, traced).footprint_samples, 64);
 }
 
+// The radiance rays are m x m of the footprint (half its n by default): the image is what a bake with
+// n = m footprint rays traces, the optical depths what one with every ray carrying radiance stores.
+// Bit for bit: the march step is fixed here (footprint_step 0), and the photons do not depend on n.
+TEST(BasisTracer, RadianceRaysAreFewerThanTheFootprintRays) {
+    TraceSettings settings;
+    ASSERT_EQ(settings.radiance_samples_per_axis, 0) << "the default takes m from n";
+    EXPECT_EQ(radianceSamplesPerAxis(settings, 3), 2);
+    EXPECT_EQ(radianceSamplesPerAxis(settings, 4), 2);
+    EXPECT_EQ(radianceSamplesPerAxis(settings, 6), 3);
+    EXPECT_EQ(radianceSamplesPerAxis(settings, 1), 1);
+    settings.radiance_samples_per_axis = 5;
+    EXPECT_EQ(radianceSamplesPerAxis(settings, 3), 3) << "never more than the footprint's";
+    EXPECT_EQ(radianceSamplesPerAxis(settings, 8), 5) << "a given m is kept";
+
+    const ScatteringBox box;
+    const auto trace = [&](int n, int m) {
+        TraceSettings t = fastTrace(3);
+        t.footprint_step = 0.0;
+        t.footprint_samples_per_axis = n;
+        t.radiance_samples_per_axis = m;
+        return traceFrameBasis(box.medium, box.camera, box.model, t);
+    };
+    const FrameBasis split = trace(4, 2), radiance = trace(2, 2), depths = trace(4, 4);
+    EXPECT_EQ(split.footprint_samples, 16);
+    EXPECT_EQ(split.radiance_samples, 4);
+    EXPECT_EQ(depths.radiance_samples, 16);
+    EXPECT_TRUE(split.matrix == radiance.matrix) << "the image is the 2x2 rays'";
+    EXPECT_FALSE(split.matrix == depths.matrix) << "and not the 4x4 rays' (the check can fail)";
+    EXPECT_TRUE(split.depth_b == depths.depth_b && split.depth_a == depths.depth_a) << "the depths are the 4x4 rays'";
+
+    // The quadrature error the trace reports is the relative Frobenius error of the 2x2 image
+    // against the 4x4 one over every 4th pixel of every 4th row, from (2, 2).
+    EXPECT_EQ(depths.radiance_quadrature_error, 0.0) << "no quadrature error where every ray carries radiance";
+    double diff2 = 0.0, value2 = 0.0;
+    for (int py = 2; py < split.height; py += 4)
+        for (int px = 2; px < split.width; px += 4)
+            for (int j = 0; j < split.columns; ++j) {
+                const std::size_t i = (static_cast<std::size_t>(py) * split.width + px) * split.columns + j;
+                diff2 += std::pow(double(split.matrix[i]) - depths.matrix[i], 2);
+                value2 += std::pow(double(depths.matrix[i]), 2);
+            }
+    ASSERT_GT(diff2, 0.0) << "the case must have a quadrature error";
+    EXPECT_NEAR(split.radiance_quadrature_error, std::sqrt(diff2 / value2), 1e-9);
+}
+
 // A stop asked for while the scattering cells or the light depths are built ends the trace there,
 // not at the next stage (issue 28: on a large frame those stages took 4-15 s without a check).
 TEST(BasisTracer, AStopIsSeenInsideTheSetupStages) {
