@@ -252,23 +252,6 @@ nlohmann::ordered_json sharedMetadata(const SequencePlan& plan, const vdb::VdbSe
     return nlohmann::ordered_json::parse(basis::makeMetadata(without_frames, extra.dump()));
 }
 
-// One line: what the trace settings (a quality preset, changed by bake.json's keys) choose for this
-// image size, each error source's setting.
-std::string describeTraceChoice(const BakeConfig& config, const basis::BakeDescription& description) {
-    const TraceSettings& t = config.trace;
-    const int n = footprintSamplesPerAxis(t, description.width, description.height);
-    const int m = radianceSamplesPerAxis(t, n);
-    char line[512];
-    std::snprintf(line, sizeof line,
-                  "trace (%s quality): %dx%d footprint rays a pixel for alpha, %dx%d of them for radiance; march "
-                  "step %g voxel; photon noise target %g%% (chains of %g of the photons, up to %dx); scattering "
-                  "orders until %g%% is left",
-                  config.quality.empty() ? "default" : config.quality.c_str(), n, n, m, m, t.step_voxels,
-                  100.0 * t.photon_noise_target, t.photon_pilot_share * 0.5, t.max_photon_scale,
-                  100.0 * t.order_tolerance);
-    return line;
-}
-
 }  // namespace
 
 BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::path& output,
@@ -314,7 +297,6 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
             for (const AxisCollapse& c : report.axes.collapsed) notice(describeAxisCollapse(c, report.axes));
     }
     const BasisModel model = description;
-    if (notice) notice(describeTraceChoice(config, description));
     const nlohmann::ordered_json shared =
         sharedMetadata(*plan, sequence, config, tool_version, scene, description, report);
 

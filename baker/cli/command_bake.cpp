@@ -104,6 +104,23 @@ void writePlan(const std::string& sequence_path, const std::string& output, cons
                 plan.frames.front().number, plan.frames.back().number, plan.sequence_xxh3_64.c_str());
 }
 
+// One line: what the trace settings (a quality preset, changed by bake.json's keys) choose for this
+// image size, each error source's setting.
+std::string describeTraceChoice(const bake::BakeConfig& config) {
+    const bake::TraceSettings& t = config.trace;
+    const int n = bake::footprintSamplesPerAxis(t, config.scene.width, config.scene.height);
+    const int m = bake::radianceSamplesPerAxis(t, n);
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "trace (%s quality): %dx%d footprint rays a pixel for alpha, %dx%d of them for radiance; march "
+                  "step %g voxel; photon noise target %g%% (chains of %g of the photons, up to %dx); scattering "
+                  "orders until %g%% is left",
+                  config.quality.empty() ? "default" : config.quality.c_str(), n, n, m, m, t.step_voxels,
+                  100.0 * t.photon_noise_target, t.photon_pilot_share * 0.5, t.max_photon_scale,
+                  100.0 * t.order_tolerance);
+    return line;
+}
+
 }  // namespace
 
 void registerBakeCommand(CLI::App& app) {
@@ -176,6 +193,7 @@ void registerBakeCommand(CLI::App& app) {
         if (args->threads > 0)
             threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                             static_cast<size_t>(args->threads));
+        std::fprintf(stderr, "firelook: %s\n", describeTraceChoice(config).c_str());
         ProgressBar bar("bake");
         bake::BakeReport report;
         try {
