@@ -99,8 +99,7 @@ int footprintSamplesPerAxis(const TraceSettings& settings, int width, int height
 }
 
 int radianceSamplesPerAxis(const TraceSettings& settings, int footprint_per_axis) {
-    const int m = settings.radiance_samples_per_axis > 0 ? settings.radiance_samples_per_axis
-                                                         : (footprint_per_axis + 1) / 2;
+    const int m = settings.radiance_samples_per_axis > 0 ? settings.radiance_samples_per_axis : footprint_per_axis;
     return std::min(m, footprint_per_axis);
 }
 
