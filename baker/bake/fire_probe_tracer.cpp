@@ -51,7 +51,7 @@ void emissionCentroid(const render::Medium& medium, const TraceTables& tb, glm::
 // Factors full[probe][point][bin][K] into table.factors [point][rank] and table.sh
 // [probe][rank][bin][K]: the leading eigenvectors of the Gram matrix over the grid points, as many as
 // keep the dropped eigenvalues' sum within rank_error^2 of their total.
-void factorOverGridPoints(const std::vector<double>& full, double rank_error, basis::FireProbeTable& table) {
+void factorOverGridPoints(const std::vector<float>& full, double rank_error, basis::FireProbeTable& table) {
     constexpr int K = basis::kFireProbeCoefficients;
     const int P = table.points, rows_per_probe = table.bins * K, probes = table.grid.probes();
     const auto value = [&](int probe, int point, int row) {  // row = bin * K + k
@@ -109,8 +109,9 @@ basis::FireProbeTable traceFireProbes(const render::Medium& medium, const BasisM
     table.extinction_scale = settings.absorption_only ? static_cast<float>(1.0 - model.albedo) : 1.0f;
     const int n = std::max(settings.resolution, 2);
     table.grid.counts = glm::ivec3(n);
-    // The table before the factorisation: [probe][point][bin][K].
-    std::vector<double> full(static_cast<size_t>(table.grid.probes()) * tb.points * tb.bins * K, 0.0);
+    // The table before the factorisation: [probe][point][bin][K], in float as the sections store
+    // (FireProbeSettings says what it holds).
+    std::vector<float> full(static_cast<size_t>(table.grid.probes()) * tb.points * tb.bins * K, 0.0f);
     if (medium.empty()) {
         factorOverGridPoints(full, settings.rank_error, table);
         table.grid.origin = glm::dvec3(-0.5);
@@ -201,7 +202,8 @@ basis::FireProbeTable traceFireProbes(const render::Medium& medium, const BasisM
                     for (int k = 0; k < K; ++k) out[k] += l * y[k];
                 }
         }
-        std::copy(sum.begin(), sum.end(), full.begin() + static_cast<ptrdiff_t>(probe) * G * tb.bins * K);
+        std::transform(sum.begin(), sum.end(), full.begin() + static_cast<ptrdiff_t>(probe) * G * tb.bins * K,
+                       [](double value) { return static_cast<float>(value); });
     });
     factorOverGridPoints(full, settings.rank_error, table);
     return table;

@@ -143,7 +143,7 @@ void registerBakeCommand(CLI::App& app) {
                     "also store each frame's fire probes: an N x N x N grid of irradiance probes (order-2 "
                     "spherical harmonics) on a box 1.5x the volume's bounds, for any look "
                     "(fl_package_get_fire_probes, info --json; 355 KiB a frame for N = 6 on the bundled sample)")
-        ->check(CLI::Range(2, 64));
+        ->check(CLI::Range(2, bake::kMaxFireProbeResolution));
     cmd->add_flag("--resume", args->resume,
                   "continue an interrupted bake of the same output: the frames it finished (kept in "
                   "OUT.firelook.partial/) are reused when they were baked with the same settings from unchanged files, "

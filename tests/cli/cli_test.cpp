@@ -415,12 +415,12 @@ TEST(Cli, FireProbesAreBakedListedKeptByRepackAndRangeChecked) {
     EXPECT_GT(l00, 0.0);  // the fluence is sqrt(4 pi) L00: the fire's light arrives somewhere
     const CommandResult text = runFirelook(dir, "info p.firelook");
     EXPECT_NE(text.out.find("fire probes: 3x3x3 per frame in 1 frames"), std::string::npos) << text.out;
-    // A repack keeps them as stored; a bake without them has none, and a grid of 1 or 65 is refused.
+    // A repack keeps them as stored; a bake without them has none, and a grid of 1 or 17 is refused.
     ASSERT_EQ(runFirelook(dir, "repack p.firelook --basis-error 0.001 -o r.firelook").exit_code, 0);
     EXPECT_EQ(json::parse(runFirelook(dir, "info --json r.firelook").out).at("fire_probes"), probes);
     ASSERT_EQ(runFirelook(dir, bake + " -o n.firelook").exit_code, 0);
     EXPECT_FALSE(json::parse(runFirelook(dir, "info --json n.firelook").out).contains("fire_probes"));
-    for (const char* n : {"1", "65"}) {
+    for (const char* n : {"1", "17"}) {
         const CommandResult r = runFirelook(dir, bake + " --fire-probes " + n + " -o x.firelook");
         EXPECT_NE(r.exit_code, 0) << n;
         EXPECT_NE(r.err.find("--fire-probes"), std::string::npos) << r.err;
