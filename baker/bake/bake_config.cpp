@@ -145,7 +145,8 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         if (c.bins < 1 || c.bins > 256) throw Error(ErrorCode::InvalidArgument, "bins must be 1..256");
         if (c.fire_probes != 0 && (c.fire_probes < 2 || c.fire_probes > kMaxFireProbeResolution))
             throw Error(ErrorCode::InvalidArgument, "fire_probes must be 0 (none) or 2.." +
-                                                        std::to_string(kMaxFireProbeResolution) + " probes an axis");
+                                                        std::to_string(kMaxFireProbeResolution) +
+                                                        " probes an axis");
         if (!(c.albedo >= 0.0 && c.albedo <= 1.0))
             throw Error(ErrorCode::InvalidArgument, "albedo must be in [0, 1]");
         if (j.contains("memory_budget")) c.memory_budget_bytes = parseByteSize(j["memory_budget"].get<std::string>());

@@ -139,10 +139,11 @@ void registerBakeCommand(CLI::App& app) {
     cmd->add_flag("--fire-lights", args->fire_lights,
                   "also store each frame's fire lights: up to 8 point lights approximating the light the fire "
                   "sends into the scene, for any look (fl_package_get_fire_lights, info --json; about 160 KiB a frame)");
-    cmd->add_option("--fire-probes", args->fire_probes,
-                    "also store each frame's fire probes: an N x N x N grid of irradiance probes (order-2 "
-                    "spherical harmonics) on a box 1.5x the volume's bounds, for any look "
-                    "(fl_package_get_fire_probes, info --json; 355 KiB a frame for N = 6 on the bundled sample)")
+    cmd->add_option(
+           "--fire-probes", args->fire_probes,
+           "also store each frame's fire probes: an N x N x N grid of irradiance probes (order-2 "
+           "spherical harmonics) on a box 1.5x the volume's bounds, for any look "
+           "(fl_package_get_fire_probes, info --json; 355 KiB a frame for N = 6 on the bundled sample)")
         ->check(CLI::Range(2, bake::kMaxFireProbeResolution));
     cmd->add_flag("--resume", args->resume,
                   "continue an interrupted bake of the same output: the frames it finished (kept in "
