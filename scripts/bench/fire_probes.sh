@@ -5,14 +5,16 @@
 # seconds of its FPRB section, from the bake's --report), then measures the fire's fluence and
 # irradiance at random points around the volume, on a ground plane below it and on a wall beside it,
 # for the probe grids and the point lights, against the full model (tests/bake/bench_fire_probes.cpp).
-#   scripts/bench/fire_probes.sh [frame] [paths per point] [points] [resolutions] [out-dir]
+#   scripts/bench/fire_probes.sh [frame] [paths per point] [points] [resolutions] [looks] [out-dir]
+# (looks: the default look, then random extinctions within the baked axes)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 frame="${1:-7}"
 samples="${2:-65536}"
 points="${3:-100}"
 resolutions="${4:-4,6}"
-out="${5:-$root/out/bench/fire_probes}"
+looks="${5:-1}"
+out="${6:-$root/out/bench/fire_probes}"
 "$root/scripts/build.sh" release firelook bench_fire_probes >/dev/null
 firelook="$root/build/release/baker/cli/firelook"
 mkdir -p "$out"
@@ -32,4 +34,4 @@ PY
   first="${first:-$package}"
 done
 "$root/build/release/tests/bake/bench_fire_probes" "$first" "$root/samples/data/explosion" "$frame" "$samples" \
-  "$points" "$resolutions" z
+  "$points" "$resolutions" z "$looks"

@@ -670,7 +670,7 @@ typedef struct fl_fire_probe_grid {
    a surface facing a unit normal n is sum_l A_l sum_m L_lm Y_lm(n), A = (pi, 2 pi / 3, pi / 4), at least
    0. Every value finite. A frame not in the package, or a package baked without fire probes:
    FL_ERROR_NOT_FOUND; capacity below the count: FL_ERROR_BUFFER_TOO_SMALL; a look that does not fit the
-   package: FL_ERROR_LOOK. Costs about a microsecond per probe plus the look's emission fit. */
+   package: FL_ERROR_LOOK. Costs under a microsecond per probe (0.3 measured) plus the look's emission fit. */
 FIRELOOK_API fl_result fl_package_get_fire_probes(fl_package package, int32_t frame, fl_look look,
                                                   fl_fire_probe_grid* out_grid, float* coefficients,
                                                   size_t capacity, size_t* out_count);
