@@ -141,6 +141,10 @@ void evaluateFireProbes(const FireProbeTable& t, const GridWeights& weights, std
 void sampleFireProbes(const FireProbeGrid& grid, std::span<const Rgb> values, const glm::dvec3& point,
                       Rgb* out) {
     constexpr int K = kFireProbeCoefficients;
+    if (!std::isfinite(point.x) || !std::isfinite(point.y) || !std::isfinite(point.z)) {
+        std::fill(out, out + K, Rgb(0.0f));  // no cell to read: nothing, rather than a NaN
+        return;
+    }
     // Cell and fractions, clamped to the grid: outside it the nearest face's values.
     int cell[3];
     double frac[3];

@@ -92,7 +92,7 @@ void evaluateFireProbes(const FireProbeTable& table, const GridWeights& weights,
                         Rgb* out);
 
 // The SH coefficients at a world point, blended from a look's probes (`values`, as evaluateFireProbes
-// writes them) by the grid's rule above. out: 9 values.
+// writes them) by the grid's rule above; zeros for a point that is not finite. out: 9 values.
 void sampleFireProbes(const FireProbeGrid& grid, std::span<const Rgb> values, const glm::dvec3& point,
                       Rgb* out);
 // From 9 coefficients: the fluence rate, and the irradiance on a surface facing `normal` (a unit

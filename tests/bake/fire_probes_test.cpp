@@ -275,7 +275,7 @@ TEST(FireProbes, KeepAFewTermsOfTheGridPointsWithinTheirBound) {
     EXPECT_LT(std::sqrt(error / norm), 2e-3);
 }
 
-TEST(FireProbes, AreFiniteForEmptyFramesZeroEmissionAndBadNormals) {
+TEST(FireProbes, AreFiniteForEmptyFramesZeroEmissionAndBadNormalsAndPoints) {
     FireProbeSettings settings;
     settings.resolution = 2;
     const std::vector<Rgb> zero(4, Rgb(0.0f));
@@ -283,8 +283,9 @@ TEST(FireProbes, AreFiniteForEmptyFramesZeroEmissionAndBadNormals) {
                                                traceFireProbes(probeBall(), probeModel(0.5), settings)})
         for (const auto& c : {zero, kProbeCoefficients}) {
             const std::vector<Rgb> values = probeValues(table, onePoint(2), c);
-            for (const glm::dvec3& x : {table.grid.origin, table.grid.falloff_centre, glm::dvec3(1e6),
-                                        glm::dvec3(-3.0, 40.0, 0.5)}) {
+            for (const glm::dvec3& x :
+                 {table.grid.origin, table.grid.falloff_centre, glm::dvec3(1e6), glm::dvec3(-3.0, 40.0, 0.5),
+                  glm::dvec3(std::nan(""), 0.0, 0.0), glm::dvec3(0.0, INFINITY, 0.0)}) {
                 Rgb sh[basis::kFireProbeCoefficients];
                 basis::sampleFireProbes(table.grid, values, x, sh);
                 for (const glm::dvec3& n : {glm::dvec3(0, 0, 1), glm::dvec3(0.0), glm::dvec3(std::nan(""))}) {
