@@ -54,13 +54,14 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         checkKeys(j, {"format", "version", "frames", "size", "bins", "t_lo", "t_hi", "rbf_width", "albedo", "axes",
                       "alpha_threshold_samples", "trace", "compression", "seed", "up", "density_grid",
                       "temperature_grid", "temperature_scale", "temperature_offset", "density_scale", "scene", "camera",
-                      "memory_budget", "lights", "fire_lights", "quality"},
+                      "memory_budget", "lights", "fire_lights", "fire_probes", "quality"},
                   "the bake config");
         // "all" is how configToJson records every frame, so a package's recorded settings bake again.
         if (j.contains("quality") && c.quality.empty()) applyQuality(c, j["quality"].get<std::string>());
         if (j.contains("frames")) c.frames = j["frames"].get<std::string>() == "all" ? "" : j["frames"].get<std::string>();
         if (j.contains("scene")) c.scene.scene_path = j["scene"].get<std::string>();
         if (j.contains("fire_lights")) c.fire_lights = j["fire_lights"].get<bool>();
+        if (j.contains("fire_probes")) c.fire_probes = j["fire_probes"].get<int>();
         if (j.contains("lights")) {
             applyLightsChoice(c.scene, j["lights"].get<std::string>());
         }
@@ -145,6 +146,10 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         }
         basis::validateAxes(derivedAxes(c.axes, AxisDerivation{}));  // the given ones, the design's beside them
         if (c.bins < 1 || c.bins > 256) throw Error(ErrorCode::InvalidArgument, "bins must be 1..256");
+        if (c.fire_probes != 0 && (c.fire_probes < 2 || c.fire_probes > kMaxFireProbeResolution))
+            throw Error(ErrorCode::InvalidArgument, "fire_probes must be 0 (none) or 2.." +
+                                                        std::to_string(kMaxFireProbeResolution) +
+                                                        " probes an axis");
         if (!(c.albedo >= 0.0 && c.albedo <= 1.0))
             throw Error(ErrorCode::InvalidArgument, "albedo must be in [0, 1]");
         if (j.contains("memory_budget")) c.memory_budget_bytes = parseByteSize(j["memory_budget"].get<std::string>());
@@ -256,6 +261,7 @@ std::string configToJson(const BakeConfig& c) {
     if (!c.scene.scene_path.empty()) j["scene"] = c.scene.scene_path;
     if (c.scene.camera) j["camera"] = *c.scene.camera;
     if (c.fire_lights) j["fire_lights"] = true;  // only when set, as "lights"
+    if (c.fire_probes > 0) j["fire_probes"] = c.fire_probes;
     // Only when set: other bakes keep their settings hash.
     if (c.scene.six_way_lights || c.scene.sphere_lights > 0) j["lights"] = lightsChoiceName(c.scene);
     j["density_grid"] = c.read.density_grid;

@@ -18,6 +18,10 @@
 
 namespace firelook::bake {
 
+// The most probes per axis a bake stores (BakeConfig::fire_probes; the FPRB section allows 64): the
+// tracer's memory grows as the cube, outside the bake's estimate (fire_probe_tracer.h).
+inline constexpr int kMaxFireProbeResolution = 16;
+
 struct BakeConfig {
     std::string frames;  // "A-B,C,...", empty = all
     SceneOptions scene;
@@ -48,6 +52,11 @@ struct BakeConfig {
     // "fire_lights": true): point lights for an engine's scene lighting, about 160 KiB a frame, so
     // only when asked for.
     bool fire_lights = false;
+    // Store each frame's fire probes (runtime/basis/fire_probes.h; firelook bake --fire-probes N,
+    // JSON "fire_probes": N): an N x N x N grid of SH irradiance probes around the effect, N from 2
+    // to kMaxFireProbeResolution (16); 0 = none. 9 floats a probe, bin and term (3 terms on the
+    // bundled sample: 355 KiB a frame at N = 6), so only when asked for.
+    int fire_probes = 0;
     uint64_t seed = 1;
     // Bytes the bake may hold at its peak (firelook bake --memory-budget); 0 = defaultMemoryBudget().
     uint64_t memory_budget_bytes = 0;

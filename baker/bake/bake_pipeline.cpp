@@ -11,6 +11,7 @@
 #include "bake/bake_checkpoint.h"
 #include "bake/bake_metadata.h"
 #include "bake/fire_light_tracer.h"
+#include "bake/fire_probe_tracer.h"
 #include "bake/package_merge.h"
 #include "bake/sequence_plan.h"
 #include "basis/basis_package.h"
@@ -429,6 +430,19 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
                                                   package::Codec::Zstd, false)
                                       .stored_size;
             fr.fire_light_seconds = secondsSince(t0);
+        }
+        // The fire's probe grid (basis/fire_probes.h), the same way.
+        if (config.fire_probes > 0) {
+            t0 = std::chrono::steady_clock::now();
+            FireProbeSettings settings;
+            settings.resolution = config.fire_probes;
+            fr.fire_probe_bytes =
+                writer
+                    .addSection(basis::kSectionFireProbes, static_cast<uint32_t>(frame_number),
+                                basis::encodeFireProbes(traceFireProbes(medium, model, settings)),
+                                package::Codec::Zstd, false)
+                    .stored_size;
+            fr.fire_probe_seconds = secondsSince(t0);
         }
         fr.quantisation_error = std::hypot(chosen.compressed.quantisation_error, stored.u_error, stored.svt_error);
         fr.detailed_pixels = stored.detailed_pixels;

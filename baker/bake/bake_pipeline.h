@@ -31,6 +31,8 @@ struct FrameBakeReport {
     uint64_t u_bytes = 0, svt_bytes = 0, depth_bytes = 0;  // the frame's sections in the package
     uint64_t fire_light_bytes = 0;     // its fire lights' section (not recorded in META)
     double fire_light_seconds = 0.0;
+    uint64_t fire_probe_bytes = 0;  // its fire probes' section (not recorded in META)
+    double fire_probe_seconds = 0.0;
     int scattering_orders = 0;
     double last_order_fraction = 0.0;  // largest share of a column's scattered power the last order added
     double tail_fraction = 0.0;        // largest share the geometric tail of the untraced orders added

@@ -54,6 +54,7 @@ void writeReportJson(const std::string& path, const std::string& sequence, const
                             {"camera_rays", f.camera_seconds}}},
                           {"svd_seconds", f.compress_seconds},
                           {"fire_lights", {{"bytes", f.fire_light_bytes}, {"seconds", f.fire_light_seconds}}},
+                          {"fire_probes", {{"bytes", f.fire_probe_bytes}, {"seconds", f.fire_probe_seconds}}},
                           {"active_voxels", f.active_voxels},
                           {"cell_edge_voxels", f.cell_edge_voxels},
                           {"light_spacing_voxels", f.light_spacing_voxels},
@@ -130,6 +131,7 @@ void registerBakeCommand(CLI::App& app) {
         uint64_t seed = 1;
         int threads = 0;
         bool keep_axes = false, resume = false, fire_lights = false, plan_only = false;
+        int fire_probes = 0;
         SceneFlags scene;
     };
     auto args = std::make_shared<Args>();
@@ -162,6 +164,12 @@ void registerBakeCommand(CLI::App& app) {
     cmd->add_flag("--fire-lights", args->fire_lights,
                   "also store each frame's fire lights: up to 8 point lights approximating the light the fire "
                   "sends into the scene, for any look (fl_package_get_fire_lights, info --json; about 160 KiB a frame)");
+    cmd->add_option(
+           "--fire-probes", args->fire_probes,
+           "also store each frame's fire probes: an N x N x N grid of irradiance probes (order-2 "
+           "spherical harmonics) on a box 1.5x the volume's bounds, for any look "
+           "(fl_package_get_fire_probes, info --json; 355 KiB a frame for N = 6 on the bundled sample)")
+        ->check(CLI::Range(2, bake::kMaxFireProbeResolution));
     cmd->add_flag("--resume", args->resume,
                   "continue an interrupted bake of the same output: the frames it finished (kept in "
                   "OUT.firelook.partial/) are reused when they were baked with the same settings from unchanged files, "
@@ -188,6 +196,7 @@ void registerBakeCommand(CLI::App& app) {
         if (!args->memory_budget.empty()) config.memory_budget_bytes = bake::parseByteSize(args->memory_budget);
         if (args->keep_axes) config.collapse_unused_axes = false;
         if (args->fire_lights) config.fire_lights = true;
+        if (args->fire_probes > 0) config.fire_probes = args->fire_probes;
         config.target = storageTarget(*cmd, args->target);
         std::unique_ptr<tbb::global_control> threads;
         if (args->threads > 0)

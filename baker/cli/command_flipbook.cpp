@@ -1,13 +1,18 @@
 // firelook flipbook PACKAGE [--look L.json] [--frames A-B] --layout L [--grid CxR] -o DIR [--format F]
 // Engine flipbooks: every selected frame recombined with one look and packed into the layout's
-// atlases (runtime/flipbook), plus DIR/flipbook.json saying what is where. All or nothing
+// atlases (runtime/flipbook), plus DIR/flipbook.json saying what is where, and, for a package baked
+// with --fire-probes, the look's probes as raw 3D data (DIR/fire_probes.bin). All or nothing
 // (cli/staging_folder.h).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "bake/scene_setup.h"
 #include "basis/basis_package.h"
+#include "basis/fire_probes.h"
 #include "basis/six_way_lights.h"
 #include "cli/commands.h"
 #include "cli/interrupt.h"
@@ -20,6 +25,7 @@
 #include "flipbook/frame_layers.h"
 #include "image/image_io.h"
 #include "look/look.h"
+#include "world/look_track.h"
 
 namespace firelook::cli {
 namespace {
@@ -30,6 +36,57 @@ std::pair<int, int> parseGrid(const std::string& text) {
     } catch (const std::exception&) {
         throw Error(ErrorCode::InvalidArgument, "--grid '" + text + "' is not CxR (columns x rows)");
     }
+}
+
+// The frames' fire probes for the look as one raw float32 file (docs/cli.md, "firelook flipbook"):
+// per frame its probes' 9 RGB coefficients, and the sidecar's description of where each frame's
+// grid is. Null when no selected frame has probes; a package with some frames only is refused.
+nlohmann::ordered_json writeFireProbes(const basis::BasisReader& package, const std::vector<int>& frames,
+                                       const Look& look, const std::filesystem::path& file) {
+    const basis::BakeDescription& d = package.description();
+    const world::ResolvedLook resolved = world::resolveLook(look, d);
+    const basis::GridWeights weights = basis::interpolationWeights(d.axes, resolved.extinction);
+    std::vector<std::optional<basis::FireProbeTable>> tables;
+    for (int frame : frames) tables.push_back(package.loadFireProbes(frame));
+    const auto missing = std::find(tables.begin(), tables.end(), std::nullopt);
+    if (missing == tables.begin() &&
+        std::all_of(tables.begin(), tables.end(), [](const auto& t) { return !t; }))
+        return nullptr;
+    if (missing != tables.end())
+        throw Error(ErrorCode::InvalidArgument, package.file().string() + ": frame " +
+                                                    std::to_string(frames[missing - tables.begin()]) +
+                                                    " has no fire probes, other frames have");
+    std::vector<float> data;
+    nlohmann::ordered_json grids = nlohmann::ordered_json::array();
+    for (size_t n = 0; n < frames.size(); ++n) {
+        const int frame = frames[n];
+        const basis::FireProbeTable* table = &*tables[n];
+        const basis::FireProbeGrid& g = table->grid;
+        std::vector<Rgb> values(static_cast<size_t>(g.probes()) * basis::kFireProbeCoefficients);
+        basis::evaluateFireProbes(*table, weights, resolved.rbf, values.data());
+        grids.push_back({{"frame", frame},
+                         {"offset_floats", data.size()},
+                         {"counts", {g.counts.x, g.counts.y, g.counts.z}},
+                         {"origin", {g.origin.x, g.origin.y, g.origin.z}},
+                         {"spacing", {g.spacing.x, g.spacing.y, g.spacing.z}},
+                         {"falloff_centre", {g.falloff_centre.x, g.falloff_centre.y, g.falloff_centre.z}},
+                         {"falloff_radius", g.falloff_radius}});
+        for (const Rgb& v : values) data.insert(data.end(), {v.r, v.g, v.b});
+    }
+    std::string bytes(data.size() * sizeof(float), '\0');
+    std::memcpy(bytes.data(), data.data(), bytes.size());  // little-endian, as every supported machine
+    writeFileAtomically(file, bytes);
+    return {{"file", file.filename().string()},
+            {"encoding",
+             "float32 little-endian, per frame at offset_floats: probe p = i + counts[0] (j + counts[1] "
+             "k) at origin + spacing * (i, j, k), then its 9 real SH coefficients (Y00, Y1-1, Y10, Y11, "
+             "Y2-2, Y2-1, Y20, Y21, Y22), then R, G, B: a 3D texture of counts texels with 27 floats each"},
+            {"meaning",
+             "radiance arriving from the fire for the look; fluence sqrt(4 pi) L00, irradiance on a "
+             "surface facing n sum_l A_l sum_m L_lm Y_lm(n), A = (pi, 2 pi / 3, pi / 4); between probes "
+             "blend p * s(p) trilinearly and divide by s(x), s = |x - falloff_centre|^2 + "
+             "falloff_radius^2 (firelook.h, fl_fire_probes_sample)"},
+            {"frames", grids}};
 }
 
 }  // namespace
@@ -131,6 +188,10 @@ void registerFlipbookCommand(CLI::App& app) {
                 {"frame", "camera: right +X, top +Y, back -Z (far side of the volume), as basis/six_way_lights.h"},
                 {"look_lights", "ignored: each lightmap is its light alone, emission is every light off"}};
         }
+        if (nlohmann::ordered_json probes =
+                writeFireProbes(package, frames, look, staging / "fire_probes.bin");
+            !probes.is_null())
+            sidecar["fire_probes"] = probes;
         writeFileAtomically(staging / "flipbook.json", sidecar.dump(2) + "\n");
         throwIfInterrupted();
         staging.commit();

@@ -76,6 +76,51 @@ ordered_json fireLightsInfo(const std::filesystem::path& path) {
             {"frames", frames}};
 }
 
+// The frames' fire probes (basis/fire_probes.h) for the package's default look: the grid's placement
+// and every probe's 9 RGB SH coefficients; null for a package without them.
+ordered_json fireProbesInfo(const std::filesystem::path& path) {
+    std::shared_ptr<const world::Package> p;
+    try {
+        p = world::Package::open(path);
+    } catch (const std::exception&) {
+        return nullptr;
+    }
+    const world::ResolvedLook& look = p->resolvedDefaultLook();
+    const basis::GridWeights weights = basis::interpolationWeights(p->description().axes, look.extinction);
+    ordered_json frames = ordered_json::array();
+    for (int slot = 0; slot < p->frameCount(); ++slot) {
+        const basis::FireProbeTable* table = p->fireProbes(slot);
+        if (!table) continue;
+        const basis::FireProbeGrid& g = table->grid;
+        std::vector<Rgb> values(static_cast<size_t>(g.probes()) * basis::kFireProbeCoefficients);
+        basis::evaluateFireProbes(*table, weights, look.rbf, values.data());
+        ordered_json probes = ordered_json::array();
+        for (int probe = 0; probe < g.probes(); ++probe) {
+            ordered_json sh = ordered_json::array();
+            for (int k = 0; k < basis::kFireProbeCoefficients; ++k) {
+                const Rgb& v = values[static_cast<size_t>(probe) * basis::kFireProbeCoefficients + k];
+                sh.push_back({v.r, v.g, v.b});
+            }
+            probes.push_back(sh);
+        }
+        frames.push_back({{"frame", p->frameNumber(slot)},
+                          {"counts", {g.counts.x, g.counts.y, g.counts.z}},
+                          {"origin", {g.origin.x, g.origin.y, g.origin.z}},
+                          {"spacing", {g.spacing.x, g.spacing.y, g.spacing.z}},
+                          {"falloff_centre", {g.falloff_centre.x, g.falloff_centre.y, g.falloff_centre.z}},
+                          {"falloff_radius", g.falloff_radius},
+                          {"probes", probes}});
+    }
+    if (frames.empty()) return nullptr;
+    return {{"look", "default"},
+            {"units",
+             "world space; probes[i + counts[0] (j + counts[1] k)] at origin + spacing * (i, j, k), each 9 "
+             "RGB real SH coefficients of the radiance arriving from the fire (order Y00, Y1-1, Y10, Y11, "
+             "Y2-2, Y2-1, Y20, Y21, Y22); fluence sqrt(4 pi) L00; blend between probes weighted by "
+             "|x - falloff_centre|^2 + falloff_radius^2 (firelook.h, fl_fire_probes)"},
+            {"frames", frames}};
+}
+
 ordered_json packageInfo(const std::filesystem::path& path) {
     const package::ContainerReader reader = package::ContainerReader::open(path);
     ordered_json info;
@@ -127,6 +172,7 @@ ordered_json packageInfo(const std::filesystem::path& path) {
         }
     }
     if (ordered_json lights = fireLightsInfo(path); !lights.is_null()) info["fire_lights"] = lights;
+    if (ordered_json probes = fireProbesInfo(path); !probes.is_null()) info["fire_probes"] = probes;
     return info;
 }
 
@@ -239,6 +285,14 @@ void printPackage(const ordered_json& info) {
     if (info.contains("fire_lights"))
         std::printf("  fire lights: %d per frame in %zu frames (default look's under \"fire_lights\" in --json)\n",
                     info["fire_lights"]["stored_per_frame"].get<int>(), info["fire_lights"]["frames"].size());
+    if (info.contains("fire_probes")) {
+        const ordered_json& first = info["fire_probes"]["frames"].front();
+        std::printf(
+            "  fire probes: %dx%dx%d per frame in %zu frames (default look's under \"fire_probes\" in "
+            "--json)\n",
+            first["counts"][0].get<int>(), first["counts"][1].get<int>(), first["counts"][2].get<int>(),
+            info["fire_probes"]["frames"].size());
+    }
     if (info.contains("inputs"))
         std::printf("  baked with settings xxh3 %s from %zu frame files (their xxh3 under \"inputs\" in --json)\n",
                     info["inputs"].front()["settings_xxh3_64"].get<std::string>().c_str(), info["inputs"].size());
@@ -281,6 +335,7 @@ void checkPackage(const std::filesystem::path& path) {
         try {
             basis.loadResidentFrame(f.frame, std::pmr::get_default_resource());
             basis.loadFireLights(f.frame);
+            basis.loadFireProbes(f.frame);
         } catch (const std::exception& e) {  // any failure to decode is damage to report
             throw Error(ErrorCode::Corrupt, path.string() + ": frame " + std::to_string(f.frame) +
                                                 " does not decode: " + e.what());

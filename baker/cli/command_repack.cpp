@@ -128,8 +128,11 @@ void registerRepackCommand(CLI::App& app) {
                 after += stored.bytes();
                 entry = storedEntry(frame, stored);
             }
-            // The fire lights do not depend on the storage precision: copied as stored.
+            // The fire lights and probes do not depend on the storage precision: copied as stored.
             if (const package::SectionInfo* s = in.reader().find(basis::kSectionFireLights, static_cast<uint32_t>(frame)))
+                after += writer.addStoredSection(*s, in.reader().stored(*s)).stored_size;
+            if (const package::SectionInfo* s =
+                    in.reader().find(basis::kSectionFireProbes, static_cast<uint32_t>(frame)))
                 after += writer.addStoredSection(*s, in.reader().stored(*s)).stored_size;
             frames.push_back(entry);
             bar.update(double(i + 1) / d.frames.size(), "frame " + std::to_string(frame));

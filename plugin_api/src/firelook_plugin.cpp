@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "basis/fire_lights.h"
+#include "basis/fire_probes.h"
 #include "basis/parameter_grid.h"
 #include "common/error.h"
 #include "fit/look_fit.h"
@@ -1167,9 +1168,133 @@ FIRELOOK_API fl_result fl_package_get_fire_lights(fl_package ph, int32_t frame, 
     });
 }
 
+// ---- the fire's probe grid -----------------------------------------------------------------------
+
+namespace {
+constexpr size_t kProbeFloats = basis::kFireProbeCoefficients * 3;
+
+fl_fire_probe_grid toCaller(const basis::FireProbeGrid& g) {
+    fl_fire_probe_grid out{};
+    for (int a = 0; a < 3; ++a) {
+        out.counts[a] = g.counts[a];
+        out.origin[a] = g.origin[a];
+        out.spacing[a] = g.spacing[a];
+        out.falloff_centre[a] = g.falloff_centre[a];
+    }
+    out.falloff_radius = g.falloff_radius;
+    return out;
+}
+
+// The fire probes of a package's frame (by slot) for a look's extinction and emission coefficients
+// (or for `look`, resolved here, when rbf is empty).
+void writeFireProbes(const world::Package& p, int slot, const Look* look, ExtinctionParams extinction,
+                     std::span<const Rgb> rbf, fl_fire_probe_grid* out_grid, float* coefficients,
+                     size_t capacity, size_t* out_count) {
+    const basis::FireProbeTable* table = p.fireProbes(slot);
+    if (!table)
+        fail(ErrorCode::NotFound, p.name() + ": frame " + std::to_string(p.frameNumber(slot)) +
+                                      " has no fire probes (baked without --fire-probes)");
+    if (out_grid) checkStruct(out_grid, "out_grid");
+    const size_t needed = static_cast<size_t>(table->grid.probes()) * kProbeFloats;
+    if (out_count) *out_count = needed;
+    if (out_grid) writeOut(out_grid, toCaller(table->grid));
+    if (isSizeQuery(capacity)) return;
+    checkPointer(coefficients, "coefficients");
+    checkCapacity(capacity, needed, "floats");
+    world::ResolvedLook resolved;
+    if (look) {
+        resolved = world::resolveLook(*look, p.description());  // LookError
+        extinction = resolved.extinction;
+        rbf = resolved.rbf;
+    }
+    std::vector<Rgb> values(static_cast<size_t>(table->grid.probes()) * basis::kFireProbeCoefficients);
+    basis::evaluateFireProbes(*table, basis::interpolationWeights(p.description().axes, extinction), rbf,
+                              values.data());
+    for (size_t v = 0; v < values.size(); ++v)
+        for (int c = 0; c < 3; ++c) {
+            // A guard, as nothing non-finite leaves: the table and the look are checked finite.
+            if (!std::isfinite(values[v][c]))
+                fail(ErrorCode::Internal, p.name() + ": a fire probe is not finite");
+            coefficients[3 * v + c] = values[v][c];
+        }
+}
+}  // namespace
+
+FIRELOOK_API fl_result fl_package_get_fire_probes(fl_package ph, int32_t frame, fl_look lh,
+                                                  fl_fire_probe_grid* out_grid, float* coefficients,
+                                                  size_t capacity, size_t* out_count) {
+    return guarded("fl_package_get_fire_probes", [&] {
+        const auto p = findPackage(ph);
+        const int slot = slotOrFail(*p, frame);
+        const std::shared_ptr<const Look> look = lh.id ? findLook(lh) : nullptr;
+        writeFireProbes(*p, slot, look ? look.get() : &p->defaultLook(), {}, {}, out_grid, coefficients,
+                        capacity, out_count);
+    });
+}
+
+FIRELOOK_API fl_result fl_instance_get_fire_probes(fl_world w, fl_instance i, fl_fire_probe_grid* out_grid,
+                                                   float* coefficients, size_t capacity, size_t* out_count) {
+    return guarded("fl_instance_get_fire_probes", [&] {
+        const WorldInstance wi = findInstance(w, i);
+        const world::InstanceState state = wi.world.state(wi.instance);
+        if (!state.updated) fail(ErrorCode::NoData, "no fl_world_update since the instance was created");
+        const world::Package& p = wi.world.package(wi.instance);
+        writeFireProbes(p, slotOrFail(p, state.frame), nullptr, state.extinction, state.rbf, out_grid,
+                        coefficients, capacity, out_count);
+    });
+}
+
+FIRELOOK_API fl_result fl_fire_probes_sample(const fl_fire_probe_grid* grid_in, const float* coefficients,
+                                             size_t count, const double point[3], const double* normal,
+                                             float out_rgb[3]) {
+    return guarded("fl_fire_probes_sample", [&] {
+        const fl_fire_probe_grid g = readIn(grid_in, "grid");
+        checkPointer(coefficients, "coefficients");
+        checkPointer(point, "point");
+        checkPointer(out_rgb, "out_rgb");
+        basis::FireProbeGrid grid;
+        for (int a = 0; a < 3; ++a) {
+            if (g.counts[a] < 2 || g.counts[a] > 64)
+                fail(ErrorCode::InvalidArgument, "grid counts[" + std::to_string(a) + "] is " +
+                                                     std::to_string(g.counts[a]) + ", not 2 to 64");
+            if (!(g.spacing[a] > 0.0) || !std::isfinite(g.spacing[a]) || !std::isfinite(g.origin[a]) ||
+                !std::isfinite(g.falloff_centre[a]))
+                fail(ErrorCode::InvalidArgument, "grid has a spacing that is not > 0 or a non-finite value");
+            grid.counts[a] = g.counts[a];
+            grid.origin[a] = g.origin[a];
+            grid.spacing[a] = g.spacing[a];
+            grid.falloff_centre[a] = g.falloff_centre[a];
+        }
+        if (!(g.falloff_radius >= 0.0) || !std::isfinite(g.falloff_radius))
+            fail(ErrorCode::InvalidArgument, "grid falloff_radius is not a finite number >= 0");
+        grid.falloff_radius = g.falloff_radius;
+        const size_t needed = static_cast<size_t>(grid.probes()) * kProbeFloats;
+        if (count != needed)
+            fail(ErrorCode::InvalidArgument,
+                 "count is " + std::to_string(count) + ", the grid's probes need " + std::to_string(needed));
+        if (!std::isfinite(point[0]) || !std::isfinite(point[1]) || !std::isfinite(point[2]))
+            fail(ErrorCode::InvalidArgument, "point is not finite");
+        static_assert(sizeof(Rgb) == 3 * sizeof(float));
+        std::vector<Rgb> values(static_cast<size_t>(grid.probes()) * basis::kFireProbeCoefficients);
+        std::memcpy(values.data(), coefficients, needed * sizeof(float));
+        Rgb sh[basis::kFireProbeCoefficients];
+        const glm::dvec3 x(point[0], point[1], point[2]);
+        basis::sampleFireProbes(grid, values, x, sh);
+        Rgb result = basis::fluenceFromSh(sh);
+        if (normal) {
+            const glm::dvec3 n(normal[0], normal[1], normal[2]);
+            const double length = glm::length(n);
+            result =
+                length > 0.0 && std::isfinite(length) ? basis::irradianceFromSh(sh, n / length) : Rgb(0.0f);
+        }
+        for (int c = 0; c < 3; ++c)
+            out_rgb[c] = std::isfinite(result[c]) && result[c] > 0.0f ? result[c] : 0.0f;
+    });
+}
+
 FIRELOOK_API fl_result fl_instance_get_fire_lights(fl_world w, fl_instance i, uint32_t light_count,
-                                                   fl_fire_light* lights, uint32_t sizeof_light, uint32_t capacity,
-                                                   uint32_t* out_max_count) {
+                                                   fl_fire_light* lights, uint32_t sizeof_light,
+                                                   uint32_t capacity, uint32_t* out_max_count) {
     return guarded("fl_instance_get_fire_lights", [&] {
         const WorldInstance wi = findInstance(w, i);
         const world::InstanceState state = wi.world.state(wi.instance);

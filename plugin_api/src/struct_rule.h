@@ -35,6 +35,7 @@ FIRELOOK_FIRST_SIZE(fl_camera, world_from_camera);
 FIRELOOK_FIRST_SIZE(fl_fit_desc, progress_user);
 FIRELOOK_FIRST_SIZE(fl_fit_report, evaluations);
 FIRELOOK_FIRST_SIZE(fl_fire_light, radius);
+FIRELOOK_FIRST_SIZE(fl_fire_probe_grid, falloff_radius);
 FIRELOOK_FIRST_SIZE(fl_light_direction_desc, reserved2);
 FIRELOOK_FIRST_SIZE(fl_look_desc, reserved);
 FIRELOOK_FIRST_SIZE(fl_fit_target_desc, exposure);

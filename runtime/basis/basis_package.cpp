@@ -108,7 +108,8 @@ std::string makeMetadata(const BakeDescription& description, const std::string& 
 
 package::ReaderOptions BasisReader::readerOptions() {
     package::ReaderOptions options;
-    options.understood_types = {kSectionU, kSectionSVt, kSectionDepths, kSectionFireLights};
+    options.understood_types = {kSectionU, kSectionSVt, kSectionDepths, kSectionFireLights,
+                                kSectionFireProbes};
     return options;
 }
 
@@ -194,6 +195,13 @@ std::optional<FireLightTable> BasisReader::loadFireLights(int frame) const {
     const package::SectionInfo* section = reader_.find(kSectionFireLights, static_cast<uint32_t>(frame));
     if (!section) return std::nullopt;
     return decodeFireLights(reader_.read(*section), description_.axes.pointCount(), description_.bins.count,
+                            file().string() + ": frame " + std::to_string(frame));
+}
+
+std::optional<FireProbeTable> BasisReader::loadFireProbes(int frame) const {
+    const package::SectionInfo* section = reader_.find(kSectionFireProbes, static_cast<uint32_t>(frame));
+    if (!section) return std::nullopt;
+    return decodeFireProbes(reader_.read(*section), description_.axes.pointCount(), description_.bins.count,
                             file().string() + ": frame " + std::to_string(frame));
 }
 

@@ -11,6 +11,7 @@
 
 #include "basis/bake_description.h"
 #include "basis/fire_lights.h"
+#include "basis/fire_probes.h"
 #include "basis/frame_codec.h"
 #include "basis/frame_factors.h"
 #include "package/container_reader.h"
@@ -79,6 +80,8 @@ public:
     // The frame's fire lights (fire_lights.h), or nothing when the package has none for it (packages
     // baked before them). Throws a Corrupt Error naming the file and frame for a damaged section.
     std::optional<FireLightTable> loadFireLights(int frame) const;
+    // The frame's fire probes (fire_probes.h), or nothing when the package has none for it.
+    std::optional<FireProbeTable> loadFireProbes(int frame) const;
 
 private:
     const FrameRecord& record(int frame) const;  // throws naming the file when there is no such frame

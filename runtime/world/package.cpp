@@ -63,8 +63,10 @@ std::shared_ptr<const Package> Package::checked(basis::BasisReader package) {
     // The default look must be usable as is (it is every instance's initial look): parsed and
     // fitted here, once for the package's lifetime.
     p->default_look_ = resolveLook(parseLook(d.default_look_json, p->name_ + " (default look)"), d);
-    for (int frame : p->frame_numbers_)
+    for (int frame : p->frame_numbers_) {
         p->fire_lights_.push_back(corruptOnFailure([&] { return p->package_.loadFireLights(frame); }));
+        p->fire_probes_.push_back(corruptOnFailure([&] { return p->package_.loadFireProbes(frame); }));
+    }
     try {
         p->camera_ = readPackageCamera(p->package_.metadataJson(), p->name_);
     } catch (const Error& e) {

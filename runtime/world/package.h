@@ -65,6 +65,12 @@ class Package {
         return fire_lights_[slot] ? &*fire_lights_[slot] : nullptr;
     }
 
+    // The frame's fire probes (basis/fire_probes.h), read and checked at open; null for a package
+    // baked without them.
+    const basis::FireProbeTable* fireProbes(int slot) const {
+        return fire_probes_[slot] ? &*fire_probes_[slot] : nullptr;
+    }
+
     // The frame (by slot) in the resident form the world keeps (basis/resident_frame.h), its memory
     // from `memory`, reusing `table` when the frame's depth grid is the same. Throws firelook::Error
     // (a section of the wrong shape is Corrupt).
@@ -86,6 +92,7 @@ class Package {
     std::optional<PackageCamera> camera_;
     std::string camera_problem_;
     std::vector<std::optional<basis::FireLightTable>> fire_lights_;  // by slot
+    std::vector<std::optional<basis::FireProbeTable>> fire_probes_;  // by slot
 };
 
 }  // namespace firelook::world

@@ -394,7 +394,8 @@ void timingsPanel(ViewerApp& app) {
     ImGui::Text("%.1f fps (median frame)", median.frame_ms > 0 ? 1000.0 / median.frame_ms : 0.0);
 }
 
-void viewport(ViewerApp& app, const FireLightView& fire_lights, float x, float width, float height) {
+void viewport(ViewerApp& app, const FireLightView& fire_lights, const FireProbeView& fire_probes, float x,
+              float width, float height) {
     ImGui::SetNextWindowPos(ImVec2(x, 0));
     ImGui::SetNextWindowSize(ImVec2(width, height));
     ImGui::Begin("Image", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
@@ -412,6 +413,7 @@ void viewport(ViewerApp& app, const FireLightView& fire_lights, float x, float w
             imageWithCaption(what, app.displayTarget().texture(), w, aspect);
             // The group's rectangle holds the caption above the image: the image is its bottom w x w*aspect.
             const ImVec2 low(ImGui::GetItemRectMin().x, ImGui::GetItemRectMax().y - w * aspect);
+            drawFireProbeDots(*s, fire_probes, low, ImVec2(low.x + w, low.y + w * aspect));
             drawFireLightMarkers(*s, fire_lights, low, ImVec2(low.x + w, low.y + w * aspect));
         } else {
             // 2 x 2: real time now | reference; the real-time image the QA compares (taken when the
@@ -446,6 +448,7 @@ void drawUi(ViewerApp& app, UiState& ui, int window_width, int window_height) {
         if (ImGui::CollapsingHeader("Keyframes")) keyframesPanel(app, ui, *s);
         if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) displayPanel(app);
         if (ImGui::CollapsingHeader("Fire lights")) fireLightPanel(*s, ui.fire_lights);
+        if (ImGui::CollapsingHeader("Fire probes")) fireProbePanel(*s, ui.fire_probes);
         if (ImGui::CollapsingHeader("QA: reference", ImGuiTreeNodeFlags_DefaultOpen)) qaPanel(app);
         // Opened once a fit has been started (e.g. by --match-target).
         if (app.match().status != FitStatus::Idle) ImGui::SetNextItemOpen(true, ImGuiCond_Once);
@@ -454,7 +457,8 @@ void drawUi(ViewerApp& app, UiState& ui, int window_width, int window_height) {
         if (ImGui::CollapsingHeader("Timings", ImGuiTreeNodeFlags_DefaultOpen)) timingsPanel(app);
     }
     ImGui::End();
-    viewport(app, ui.fire_lights, panel, static_cast<float>(window_width) - panel, static_cast<float>(window_height));
+    viewport(app, ui.fire_lights, ui.fire_probes, panel, static_cast<float>(window_width) - panel,
+             static_cast<float>(window_height));
 }
 
 }  // namespace firelook::viewer

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "fire_light_markers.h"
+#include "fire_probe_dots.h"
 #include "viewer_app.h"
 
 namespace firelook::viewer {
@@ -17,6 +18,7 @@ struct UiState {
     std::string export_path = "frame.exr";
     std::string export_pattern = "frames/fire_####.exr";
     FireLightView fire_lights;
+    FireProbeView fire_probes;
 };
 
 // Draws every window for one frame (between ImGui::NewFrame and ImGui::Render).

@@ -391,6 +391,42 @@ TEST(Cli, InfoShowsWhatEachFrameWasBakedFrom) {
     EXPECT_GT(total, 0.0);
 }
 
+TEST(Cli, FireProbesAreBakedListedKeptByRepackAndRangeChecked) {
+    TempDir dir;
+    writeTinyConfig(dir);
+    const std::string bake = "bake '" + kSample + "' --size 16x16 --up z --config bake.json --frames 3";
+    ASSERT_EQ(runFirelook(dir, bake + " --fire-probes 3 -o p.firelook").exit_code, 0);
+    // docs/cli.md: per frame, for the default look, the grid's placement and 9 RGB values a probe.
+    const json probes = json::parse(runFirelook(dir, "info --json p.firelook").out).at("fire_probes");
+    EXPECT_EQ(probes.at("look"), "default");
+    ASSERT_EQ(probes.at("frames").size(), 1u);
+    const json& frame = probes.at("frames")[0];
+    EXPECT_EQ(frame.at("frame"), 3);
+    EXPECT_EQ(frame.at("counts"), json::array({3, 3, 3}));
+    for (const char* key : {"origin", "spacing", "falloff_centre"})
+        EXPECT_EQ(frame.at(key).size(), 3u) << key;
+    EXPECT_GT(frame.at("falloff_radius").get<double>(), 0.0);
+    ASSERT_EQ(frame.at("probes").size(), 27u);
+    double l00 = 0.0;
+    for (const json& probe : frame.at("probes")) {
+        ASSERT_EQ(probe.size(), 9u);
+        for (const json& c : probe[0]) l00 += c.get<double>();
+    }
+    EXPECT_GT(l00, 0.0);  // the fluence is sqrt(4 pi) L00: the fire's light arrives somewhere
+    const CommandResult text = runFirelook(dir, "info p.firelook");
+    EXPECT_NE(text.out.find("fire probes: 3x3x3 per frame in 1 frames"), std::string::npos) << text.out;
+    // A repack keeps them as stored; a bake without them has none, and a grid of 1 or 17 is refused.
+    ASSERT_EQ(runFirelook(dir, "repack p.firelook --basis-error 0.001 -o r.firelook").exit_code, 0);
+    EXPECT_EQ(json::parse(runFirelook(dir, "info --json r.firelook").out).at("fire_probes"), probes);
+    ASSERT_EQ(runFirelook(dir, bake + " -o n.firelook").exit_code, 0);
+    EXPECT_FALSE(json::parse(runFirelook(dir, "info --json n.firelook").out).contains("fire_probes"));
+    for (const char* n : {"1", "17"}) {
+        const CommandResult r = runFirelook(dir, bake + " --fire-probes " + n + " -o x.firelook");
+        EXPECT_NE(r.exit_code, 0) << n;
+        EXPECT_NE(r.err.find("--fire-probes"), std::string::npos) << r.err;
+    }
+}
+
 TEST(Cli, BakeIntoMissingFolderLeavesNothing) {
     TempDir dir;
     writeTinyConfig(dir);

@@ -1,6 +1,7 @@
 // `firelook flipbook` end to end (docs/cli.md, "firelook flipbook"): a six-way bake of two frames
 // of the bundled sample, its atlases lit the way Unity's six-way shader lights them, compared with
-// `firelook render` under the same light; the RLT/BBF packing; refusals.
+// `firelook render` under the same light; the RLT/BBF packing; refusals; the fire probes beside the
+// atlases.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -210,6 +211,48 @@ TEST_F(Flipbook, RefusesAGridTooSmallAndAPackageWithoutSixWayLights) {
     r = runFirelook(*dir_, "flipbook plain.firelook --layout rgba -o plain_rgba");
     EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(std::filesystem::exists(*dir_ / "plain_rgba/rgba.exr"));
+}
+
+TEST_F(Flipbook, WritesTheLooksFireProbesAsRawData) {
+    json config = json::parse(kTinyBakeConfig);
+    config["frames"] = "6-7";
+    config["size"] = "8x8";
+    config["up"] = "z";
+    config["fire_probes"] = 2;
+    std::ofstream(*dir_ / "probes.json") << config.dump();
+    ASSERT_EQ(runFirelook(*dir_, "bake '" + kSample + "' --config probes.json -o probes.firelook").exit_code,
+              0);
+    const CommandResult r = runFirelook(*dir_, "flipbook probes.firelook --layout rgba -o probes_fb");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json sidecar = json::parse(std::ifstream(*dir_ / "probes_fb/flipbook.json"));
+    const json& probes = sidecar.at("fire_probes");
+    EXPECT_EQ(probes.at("file"), "fire_probes.bin");
+    ASSERT_EQ(probes.at("frames").size(), 2u);
+    // The same numbers `info --json` gives for the default look (the flipbook's look here), frame by
+    // frame at the offsets the sidecar names: 8 probes x 9 coefficients x RGB.
+    std::ifstream in(*dir_ / "probes_fb/fire_probes.bin", std::ios::binary);
+    std::vector<float> data(2 * 8 * 27);
+    in.read(reinterpret_cast<char*>(data.data()), data.size() * sizeof(float));
+    EXPECT_EQ(in.gcount(), static_cast<std::streamsize>(data.size() * sizeof(float)));
+    EXPECT_EQ(in.peek(), std::char_traits<char>::eof());
+    const json info =
+        json::parse(runFirelook(*dir_, "info --json probes.firelook").out).at("fire_probes").at("frames");
+    for (int f = 0; f < 2; ++f) {
+        const json& grid = probes.at("frames")[f];
+        EXPECT_EQ(grid.at("frame"), info[f].at("frame"));
+        EXPECT_EQ(grid.at("counts"), info[f].at("counts"));
+        EXPECT_EQ(grid.at("origin"), info[f].at("origin"));
+        const size_t offset = grid.at("offset_floats").get<size_t>();
+        EXPECT_EQ(offset, f * 8u * 27u);
+        for (int p = 0; p < 8; ++p)
+            for (int k = 0; k < 9; ++k)
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_EQ(data[offset + 27 * p + 3 * k + c], info[f].at("probes")[p][k][c].get<float>());
+    }
+    // Without probes in the package, no such file and no such key.
+    ASSERT_EQ(runFirelook(*dir_, "flipbook six.firelook --layout rgba -o no_probes").exit_code, 0);
+    EXPECT_FALSE(std::filesystem::exists(*dir_ / "no_probes/fire_probes.bin"));
+    EXPECT_FALSE(json::parse(std::ifstream(*dir_ / "no_probes/flipbook.json")).contains("fire_probes"));
 }
 
 }  // namespace

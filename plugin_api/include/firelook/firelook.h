@@ -642,6 +642,54 @@ FIRELOOK_API fl_result fl_instance_get_fire_lights(fl_world world, fl_instance i
                                                    fl_fire_light* lights, uint32_t sizeof_light, uint32_t capacity,
                                                    uint32_t* out_max_count);
 
+/* ---- the fire's light as an irradiance volume (issue 29) ---------------- */
+
+/* Where a frame's fire probes are (a bake with firelook bake --fire-probes N stores, per frame, what they
+   need for any look: runtime/basis/fire_probes.h; other packages have none). Probe (i, j, k) sits at
+   origin + spacing * (i, j, k) and is number i + counts[0] (j + counts[1] k). Between probes the values
+   are blended trilinearly after weighting each probe by s(p) = |p - falloff_centre|^2 + falloff_radius^2,
+   and divided by s(x) at the point x (the fire's light falls off about as 1 / s; outside the grid the
+   nearest face's values so fall off with the inverse square); falloff_radius 0 means plain trilinear,
+   clamped at the faces. fl_fire_probes_sample does exactly this. First published size: through
+   falloff_radius. */
+typedef struct fl_fire_probe_grid {
+    uint32_t struct_size;     /* in: sizeof(fl_fire_probe_grid); kept */
+    int32_t counts[3];        /* probes along x, y, z, each 2 to 64 */
+    double origin[3];         /* world space (the baked volume's) */
+    double spacing[3];        /* world units, each > 0 */
+    double falloff_centre[3]; /* world space */
+    double falloff_radius;    /* world units, >= 0 */
+} fl_fire_probe_grid;
+
+/* Thread-safe. A baked frame's fire probes for a look (0: the package's default look): out_grid (if not
+   null) gets their placement; coefficients[27 p + 3 k + c] gets probe p's real spherical-harmonic
+   coefficient k (order Y00, Y1-1, Y10, Y11, Y2-2, Y2-1, Y20, Y21, Y22 of the world direction towards where
+   the light comes from) of the radiance arriving from the fire, channel c (the model's radiance, as a
+   look's light_irradiance per steradian). capacity: floats available; 0 only asks: *out_count (if not
+   null) gets 27 times the probe count. The fluence rate at a probe is sqrt(4 pi) L00; the irradiance on
+   a surface facing a unit normal n is sum_l A_l sum_m L_lm Y_lm(n), A = (pi, 2 pi / 3, pi / 4), at least
+   0. Every value finite. A frame not in the package, or a package baked without fire probes:
+   FL_ERROR_NOT_FOUND; capacity below the count: FL_ERROR_BUFFER_TOO_SMALL; a look that does not fit the
+   package: FL_ERROR_LOOK. Costs under a microsecond per probe (0.3 measured) plus the look's emission fit. */
+FIRELOOK_API fl_result fl_package_get_fire_probes(fl_package package, int32_t frame, fl_look look,
+                                                  fl_fire_probe_grid* out_grid, float* coefficients,
+                                                  size_t capacity, size_t* out_count);
+/* The same for what an instance showed at its last update: its frame (fl_instance_state.frame) and the
+   look at its frame position (fl_instance_get_look). FL_ERROR_NO_DATA before the first update. A world
+   call (one thread at a time per world). */
+FIRELOOK_API fl_result fl_instance_get_fire_probes(fl_world world, fl_instance instance,
+                                                   fl_fire_probe_grid* out_grid, float* coefficients,
+                                                   size_t capacity, size_t* out_count);
+/* Thread-safe, no state: the fire's light at a world point, blended from probes (grid and count
+   coefficients as the calls above wrote them) by the grid's rule. normal null: *out_rgb the fluence rate
+   (radiance integrated over all directions); otherwise the irradiance on a surface facing normal
+   (normalised here; a zero normal gives 0). Finite and >= 0 for finite input. A null pointer, a count
+   other than 27 times the grid's probes or a grid the calls above would not write (counts outside 2..64,
+   a spacing not > 0, a non-finite value) or a non-finite point: FL_ERROR_INVALID_ARGUMENT. */
+FIRELOOK_API fl_result fl_fire_probes_sample(const fl_fire_probe_grid* grid, const float* coefficients,
+                                             size_t count, const double point[3], const double* normal,
+                                             float out_rgb[3]);
+
 /* ---- light from a direction chosen at run time -------------------------- */
 
 /* Thread-safe. Whether the package was baked with six-way lights (firelook bake --lights six-way):
