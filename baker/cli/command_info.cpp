@@ -7,6 +7,7 @@
 #include <map>
 #include <memory_resource>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 
 #include "basis/basis_package.h"
@@ -42,17 +43,32 @@ bool looksLikePackage(const std::filesystem::path& path) {
            head[3] == 'K';
 }
 
+// The package as the runtime plays it, with its default look and that look's grid weights; none for
+// a package the runtime cannot play (the rest of info still describes it).
+struct DefaultLookView {
+    std::shared_ptr<const world::Package> package;
+    basis::GridWeights weights;
+    const world::ResolvedLook& look() const { return package->resolvedDefaultLook(); }
+};
+std::optional<DefaultLookView> defaultLookView(const std::filesystem::path& path) {
+    try {
+        std::shared_ptr<const world::Package> p = world::Package::open(path);
+        basis::GridWeights weights =
+            basis::interpolationWeights(p->description().axes, p->resolvedDefaultLook().extinction);
+        return DefaultLookView{std::move(p), weights};
+    } catch (const std::exception&) {
+        return std::nullopt;
+    }
+}
+
 // The frames' fire lights (basis/fire_lights.h) for the package's default look, all that are stored;
 // null for a package without them (or one the runtime cannot play: the rest of info still describes it).
 ordered_json fireLightsInfo(const std::filesystem::path& path) {
-    std::shared_ptr<const world::Package> p;
-    try {
-        p = world::Package::open(path);
-    } catch (const std::exception&) {
-        return nullptr;
-    }
-    const world::ResolvedLook& look = p->resolvedDefaultLook();
-    const basis::GridWeights weights = basis::interpolationWeights(p->description().axes, look.extinction);
+    const std::optional<DefaultLookView> view = defaultLookView(path);
+    if (!view) return nullptr;
+    const world::Package* p = view->package.get();
+    const world::ResolvedLook& look = view->look();
+    const basis::GridWeights& weights = view->weights;
     ordered_json frames = ordered_json::array();
     int stored = 0;
     for (int slot = 0; slot < p->frameCount(); ++slot) {
@@ -79,14 +95,11 @@ ordered_json fireLightsInfo(const std::filesystem::path& path) {
 // The frames' fire probes (basis/fire_probes.h) for the package's default look: the grid's placement
 // and every probe's 9 RGB SH coefficients; null for a package without them.
 ordered_json fireProbesInfo(const std::filesystem::path& path) {
-    std::shared_ptr<const world::Package> p;
-    try {
-        p = world::Package::open(path);
-    } catch (const std::exception&) {
-        return nullptr;
-    }
-    const world::ResolvedLook& look = p->resolvedDefaultLook();
-    const basis::GridWeights weights = basis::interpolationWeights(p->description().axes, look.extinction);
+    const std::optional<DefaultLookView> view = defaultLookView(path);
+    if (!view) return nullptr;
+    const world::Package* p = view->package.get();
+    const world::ResolvedLook& look = view->look();
+    const basis::GridWeights& weights = view->weights;
     ordered_json frames = ordered_json::array();
     for (int slot = 0; slot < p->frameCount(); ++slot) {
         const basis::FireProbeTable* table = p->fireProbes(slot);

@@ -7,27 +7,13 @@
 #include <glm/geometric.hpp>
 #include <stdexcept>
 
+#include "basis/section_bytes.h"
 #include "common/error.h"
 
 namespace firelook::basis {
 namespace {
 
 constexpr size_t kHeaderBytes = 24;
-
-template <typename T>
-void put(std::vector<std::byte>& out, T value) {
-    const size_t at = out.size();
-    out.resize(at + sizeof(T));
-    std::memcpy(out.data() + at, &value, sizeof(T));
-}
-
-template <typename T>
-T get(std::span<const std::byte> bytes, size_t& at) {
-    T value;
-    std::memcpy(&value, bytes.data() + at, sizeof(T));
-    at += sizeof(T);
-    return value;
-}
 
 }  // namespace
 
@@ -46,15 +32,15 @@ FireLightTable emptyFireLightTable(int clusters, int points, int bins, float ext
 std::vector<std::byte> encodeFireLights(const FireLightTable& t) {
     std::vector<std::byte> out;
     out.reserve(kHeaderBytes + t.reference.size() * 24 + t.moments.size() * 4);
-    put<uint32_t>(out, kFireLightsVersion);
-    put<uint32_t>(out, static_cast<uint32_t>(t.clusters));
-    put<uint32_t>(out, static_cast<uint32_t>(t.points));
-    put<uint32_t>(out, static_cast<uint32_t>(t.bins));
-    put<float>(out, t.extinction_scale);
-    put<uint32_t>(out, 0);
+    putSectionValue<uint32_t>(out, kFireLightsVersion);
+    putSectionValue<uint32_t>(out, static_cast<uint32_t>(t.clusters));
+    putSectionValue<uint32_t>(out, static_cast<uint32_t>(t.points));
+    putSectionValue<uint32_t>(out, static_cast<uint32_t>(t.bins));
+    putSectionValue<float>(out, t.extinction_scale);
+    putSectionValue<uint32_t>(out, 0);
     for (const glm::dvec3& r : t.reference)
-        for (int i = 0; i < 3; ++i) put<double>(out, r[i]);
-    for (float m : t.moments) put<float>(out, m);
+        for (int i = 0; i < 3; ++i) putSectionValue<double>(out, r[i]);
+    for (float m : t.moments) putSectionValue<float>(out, m);
     return out;
 }
 
@@ -64,11 +50,11 @@ FireLightTable decodeFireLights(std::span<const std::byte> bytes, int points, in
     };
     if (bytes.size() < kHeaderBytes) fail("section is " + std::to_string(bytes.size()) + " bytes, too short");
     size_t at = 0;
-    const uint32_t version = get<uint32_t>(bytes, at);
+    const uint32_t version = getSectionValue<uint32_t>(bytes, at);
     if (version != kFireLightsVersion) fail("have an unknown version " + std::to_string(version));
     FireLightTable t;
-    const uint32_t clusters = get<uint32_t>(bytes, at), p = get<uint32_t>(bytes, at), b = get<uint32_t>(bytes, at);
-    t.extinction_scale = get<float>(bytes, at);
+    const uint32_t clusters = getSectionValue<uint32_t>(bytes, at), p = getSectionValue<uint32_t>(bytes, at), b = getSectionValue<uint32_t>(bytes, at);
+    t.extinction_scale = getSectionValue<float>(bytes, at);
     at += 4;
     if (clusters == 0 || clusters > 1024 || (clusters & (clusters - 1)) != 0)
         fail("have " + std::to_string(clusters) + " clusters, not a power of two up to 1024");
@@ -85,7 +71,7 @@ FireLightTable decodeFireLights(std::span<const std::byte> bytes, int points, in
              std::to_string(kHeaderBytes + size_t{clusters} * 24 + values * 4));
     t.reference.resize(clusters);
     for (glm::dvec3& r : t.reference)
-        for (int i = 0; i < 3; ++i) r[i] = get<double>(bytes, at);
+        for (int i = 0; i < 3; ++i) r[i] = getSectionValue<double>(bytes, at);
     t.moments.resize(values);
     std::memcpy(t.moments.data(), bytes.data() + at, values * 4);
     for (const glm::dvec3& r : t.reference)

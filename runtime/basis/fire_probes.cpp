@@ -5,6 +5,7 @@
 #include <cstring>
 #include <numbers>
 
+#include "basis/section_bytes.h"
 #include "common/error.h"
 
 namespace firelook::basis {
@@ -13,21 +14,6 @@ namespace {
 constexpr size_t kProbeHeaderBytes = 40 + 10 * 8;
 constexpr int kMaxProbesPerAxis = 64;
 
-template <typename T>
-void putProbeValue(std::vector<std::byte>& out, T value) {
-    const size_t at = out.size();
-    out.resize(at + sizeof(T));
-    std::memcpy(out.data() + at, &value, sizeof(T));
-}
-
-template <typename T>
-T getProbeValue(std::span<const std::byte> bytes, size_t& at) {
-    T value;
-    std::memcpy(&value, bytes.data() + at, sizeof(T));
-    at += sizeof(T);
-    return value;
-}
-
 bool finite3(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 }  // namespace
@@ -35,19 +21,19 @@ bool finite3(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v
 std::vector<std::byte> encodeFireProbes(const FireProbeTable& t) {
     std::vector<std::byte> out;
     out.reserve(kProbeHeaderBytes + t.sh.size() * 4);
-    putProbeValue<uint32_t>(out, kFireProbesVersion);
-    for (int i = 0; i < 3; ++i) putProbeValue<uint32_t>(out, static_cast<uint32_t>(t.grid.counts[i]));
-    putProbeValue<uint32_t>(out, static_cast<uint32_t>(t.points));
-    putProbeValue<uint32_t>(out, static_cast<uint32_t>(t.bins));
-    putProbeValue<uint32_t>(out, kFireProbeCoefficients);
-    putProbeValue<uint32_t>(out, static_cast<uint32_t>(t.rank));
-    putProbeValue<float>(out, t.extinction_scale);
-    putProbeValue<uint32_t>(out, 0);
+    putSectionValue<uint32_t>(out, kFireProbesVersion);
+    for (int i = 0; i < 3; ++i) putSectionValue<uint32_t>(out, static_cast<uint32_t>(t.grid.counts[i]));
+    putSectionValue<uint32_t>(out, static_cast<uint32_t>(t.points));
+    putSectionValue<uint32_t>(out, static_cast<uint32_t>(t.bins));
+    putSectionValue<uint32_t>(out, kFireProbeCoefficients);
+    putSectionValue<uint32_t>(out, static_cast<uint32_t>(t.rank));
+    putSectionValue<float>(out, t.extinction_scale);
+    putSectionValue<uint32_t>(out, 0);
     for (const glm::dvec3* v : {&t.grid.origin, &t.grid.spacing, &t.grid.falloff_centre})
-        for (int i = 0; i < 3; ++i) putProbeValue<double>(out, (*v)[i]);
-    putProbeValue<double>(out, t.grid.falloff_radius);
-    for (float v : t.factors) putProbeValue<float>(out, v);
-    for (float v : t.sh) putProbeValue<float>(out, v);
+        for (int i = 0; i < 3; ++i) putSectionValue<double>(out, (*v)[i]);
+    putSectionValue<double>(out, t.grid.falloff_radius);
+    for (float v : t.factors) putSectionValue<float>(out, v);
+    for (float v : t.sh) putSectionValue<float>(out, v);
     return out;
 }
 
@@ -59,19 +45,19 @@ FireProbeTable decodeFireProbes(std::span<const std::byte> bytes, int points, in
     if (bytes.size() < kProbeHeaderBytes)
         fail("section is " + std::to_string(bytes.size()) + " bytes, too short");
     size_t at = 0;
-    const uint32_t version = getProbeValue<uint32_t>(bytes, at);
+    const uint32_t version = getSectionValue<uint32_t>(bytes, at);
     if (version != kFireProbesVersion) fail("have an unknown version " + std::to_string(version));
     FireProbeTable t;
     uint32_t counts[3];
-    for (uint32_t& c : counts) c = getProbeValue<uint32_t>(bytes, at);
-    const uint32_t p = getProbeValue<uint32_t>(bytes, at), b = getProbeValue<uint32_t>(bytes, at),
-                   coefficients = getProbeValue<uint32_t>(bytes, at),
-                   rank = getProbeValue<uint32_t>(bytes, at);
-    t.extinction_scale = getProbeValue<float>(bytes, at);
+    for (uint32_t& c : counts) c = getSectionValue<uint32_t>(bytes, at);
+    const uint32_t p = getSectionValue<uint32_t>(bytes, at), b = getSectionValue<uint32_t>(bytes, at),
+                   coefficients = getSectionValue<uint32_t>(bytes, at),
+                   rank = getSectionValue<uint32_t>(bytes, at);
+    t.extinction_scale = getSectionValue<float>(bytes, at);
     at += 4;
     for (glm::dvec3* v : {&t.grid.origin, &t.grid.spacing, &t.grid.falloff_centre})
-        for (int i = 0; i < 3; ++i) (*v)[i] = getProbeValue<double>(bytes, at);
-    t.grid.falloff_radius = getProbeValue<double>(bytes, at);
+        for (int i = 0; i < 3; ++i) (*v)[i] = getSectionValue<double>(bytes, at);
+    t.grid.falloff_radius = getSectionValue<double>(bytes, at);
     for (int i = 0; i < 3; ++i) {
         if (counts[i] < 2 || counts[i] > kMaxProbesPerAxis)
             fail("have " + std::to_string(counts[i]) + " probes along an axis, not 2 to " +
