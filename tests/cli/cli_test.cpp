@@ -455,6 +455,53 @@ TEST(Cli, BadArgumentsFail) {
     EXPECT_EQ(dir.entries(), std::vector<std::string>{"bake.json"});
 }
 
+// bake --quality (docs/bake-config.md, "quality"): one line says what the preset chose for the image
+// size, the file's trace keys change single settings of it, the settings record it, the report
+// and the table give the look error the bake predicts, and bench sets the looks it measures beside
+// it. Anything but the three presets is refused before anything is written.
+TEST(Cli, BakeQualityPresetIsPrintedRecordedAndPredicted) {
+    TempDir dir;
+    writeTinyConfig(dir);
+    CommandResult r = runFirelook(dir, "bake '" + kSample +
+                                           "' -o pkg.firelook --frames 1 --size 16x16 --up z --config bake.json "
+                                           "--quality preview --report report.json");
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_NE(r.err.find("trace (preview quality): 8x8 footprint rays a pixel for alpha, 2x2 of them for radiance; "
+                         "march step 0.25 voxel"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.out.find("look err %"), std::string::npos) << r.out;
+    const json frame = json::parse(readFile(dir / "report.json")).at("frames")[0];
+    const double predicted = frame.at("predicted_look_error").get<double>();
+    EXPECT_GT(frame.at("radiance_quadrature_error").get<double>(), 0.0) << "2x2 of 8x8 rays: measured";
+    EXPECT_NEAR(predicted,
+                std::sqrt(std::pow(frame.at("svd_truncation_relative_error").get<double>(), 2) +
+                          std::pow(frame.at("storage_relative_error").get<double>(), 2) +
+                          std::pow(frame.at("predicted_photon_noise").get<double>(), 2) +
+                          std::pow(frame.at("radiance_quadrature_error").get<double>(), 2)),
+                1e-12);
+
+    r = runFirelook(dir, "info pkg.firelook --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json settings = json::parse(r.out).at("metadata").at("provenance").at("settings");
+    EXPECT_EQ(settings.at("quality"), "preview");
+    EXPECT_EQ(settings.at("trace").at("step_voxels"), 0.25) << "the preset's";
+    EXPECT_EQ(settings.at("trace").at("photons_primary"), 2000) << "the file's key over the preset";
+
+    r = runFirelook(dir, "bench '" + kSample +
+                             "' --package pkg.firelook --frames 1 --looks 1 --spp 8 --alpha-rays 2 --json bench.json");
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    const json summary = json::parse(readFile(dir / "bench.json")).at("summary");
+    EXPECT_EQ(summary.at("predicted_look_error").get<double>(), predicted);
+    EXPECT_EQ(summary.at("within_predicted_look_error").get<bool>(),
+              summary.at("worst_noise_corrected_rmse").get<double>() <= predicted);
+
+    r = runFirelook(dir, "bake '" + kSample + "' -o other.firelook --frames 1 --size 16x16 --quality fast");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find("quality"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "other.firelook"));
+}
+
 // Regression: parseSize once accepted "16x16x16", "16x16abc" and "16.5x16" as 16x16 (std::stoi
 // stops at the first non-digit); each number must now use its whole part.
 TEST(Cli, SizeWithTrailingGarbageFails) {
