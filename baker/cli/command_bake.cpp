@@ -111,13 +111,17 @@ std::string describeTraceChoice(const bake::BakeConfig& config) {
     const bake::TraceSettings& t = config.trace;
     const int n = bake::footprintSamplesPerAxis(t, config.scene.width, config.scene.height);
     const int m = bake::radianceSamplesPerAxis(t, n);
+    char photons[160];
+    if (t.photon_noise_target > 0.0)
+        std::snprintf(photons, sizeof photons, "photon noise target %g%% (chains of %g of the photons, up to %dx)",
+                      100.0 * t.photon_noise_target, t.photon_pilot_share * 0.5, t.max_photon_scale);
+    else
+        std::snprintf(photons, sizeof photons, "the photons as given (no noise target)");
     char line[512];
     std::snprintf(line, sizeof line,
                   "trace (%s quality): %dx%d footprint rays a pixel for alpha, %dx%d of them for radiance; march "
-                  "step %g voxel; photon noise target %g%% (chains of %g of the photons, up to %dx); scattering "
-                  "orders until %g%% is left",
-                  config.quality.empty() ? "default" : config.quality.c_str(), n, n, m, m, t.step_voxels,
-                  100.0 * t.photon_noise_target, t.photon_pilot_share * 0.5, t.max_photon_scale,
+                  "step %g voxel; %s; scattering orders until %g%% is left",
+                  config.quality.empty() ? "default" : config.quality.c_str(), n, n, m, m, t.step_voxels, photons,
                   100.0 * t.order_tolerance);
     return line;
 }
