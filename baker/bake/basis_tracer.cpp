@@ -275,16 +275,22 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                               !lbar_sum.empty());
         std::vector<double> depth_a(tb.n_alpha);
         std::vector<float> fine;  // a check pixel's row from all n x n rays
-        // Adds the pixel's radiance from m x m rays to `to` (the rays the march has begun with).
-        // They march at the footprint rays' step, so the step's error is the same whatever m.
+        // to += the direct light and the gathered cells' weights contracted of the rays marched
+        // since beginPixel: once per pixel.
+        const auto addGathered = [&](float* to) {
+            ray_march.addDirect(to);
+            if (!lbar_sum.empty()) ray_march.contract(lbar_sum, to);
+        };
+        // Adds the pixel's radiance from m x m radiance-only rays to `to` (after beginPixel). They
+        // march at the footprint rays' step, so the step's error is the same whatever m.
         const auto gatherRadiance = [&](int px, int py, int m, float* to) {
             const float weight = 1.0f / static_cast<float>(m * m);
             for (int sample = 0; sample < m * m; ++sample)
                 ray_march.marchPixelRay(px, py, (sample % m + 0.5) / m, (sample / m + 0.5) / m, per_axis, weight,
                                         nullptr, nullptr);
-            ray_march.addDirect(to);
-            if (!lbar_sum.empty()) ray_march.contract(lbar_sum, to);
+            addGathered(to);
         };
+        const float radiance_weight = 1.0f / static_cast<float>(out.radiance_samples);
         for (int py = rows.begin(); py != rows.end(); ++py) {
             if (gate.stopped()) return;
             for (int px = 0; px < out.width; ++px) {
@@ -292,8 +298,8 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                 float* row = out.matrix.data() + pixel * out.columns;
                 ray_march.beginPixel();
                 // The pixel is the mean of its footprint rays: each radiance ray adds 1/samples of
-                // its integral. Where the radiance rays are the footprint rays, one march does both.
-                const float radiance_weight = 1.0f / static_cast<float>(out.radiance_samples);
+                // its integral. Where the radiance rays are the footprint rays, one march does both;
+                // otherwise these rays are depth-only and gather nothing.
                 for (int sample = 0; sample < out.footprint_samples; ++sample) {
                     double depth_b = 0.0;
                     if (!ray_march.marchPixelRay(px, py, (sample % per_axis + 0.5) / per_axis,
@@ -305,12 +311,9 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                     for (int a = 0; a < tb.n_alpha; ++a) sigmoid_out[a * pixels] = static_cast<float>(depth_a[a]);
                 }
                 if (shared) {
-                    // The direct light, and the gathered cells' weights contracted: once per pixel.
-                    ray_march.addDirect(row);
-                    if (!lbar_sum.empty()) ray_march.contract(lbar_sum, row);
+                    addGathered(row);
                     continue;
                 }
-                ray_march.beginPixel();  // the depth-only rays gathered nothing
                 gatherRadiance(px, py, radiance_per_axis, row);
                 if (px % kQuadratureCheckStride != kQuadratureCheckStride / 2 ||
                     py % kQuadratureCheckStride != kQuadratureCheckStride / 2)

@@ -248,8 +248,8 @@ bake::TraceSettings traceSettingsOf(const ordered_json& metadata) {
     t.order_tolerance = s.at("order_tolerance");
     t.step_voxels = s.at("step_voxels");
     t.footprint_samples_per_axis = s.value("footprint_samples_per_axis", 1);
-    // Before the radiance rays were counted apart, every footprint ray carried radiance (8: as many as n).
-    t.radiance_samples_per_axis = s.value("radiance_samples_per_axis", 8);
+    // Packages from before the key: every footprint ray carried radiance, the default.
+    t.radiance_samples_per_axis = s.value("radiance_samples_per_axis", t.radiance_samples_per_axis);
     return t;
 }
 

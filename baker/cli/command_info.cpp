@@ -62,13 +62,11 @@ std::optional<DefaultLookView> defaultLookView(const std::filesystem::path& path
 }
 
 // The frames' fire lights (basis/fire_lights.h) for the package's default look, all that are stored;
-// null for a package without them (or one the runtime cannot play: the rest of info still describes it).
-ordered_json fireLightsInfo(const std::filesystem::path& path) {
-    const std::optional<DefaultLookView> view = defaultLookView(path);
-    if (!view) return nullptr;
-    const world::Package* p = view->package.get();
-    const world::ResolvedLook& look = view->look();
-    const basis::GridWeights& weights = view->weights;
+// null for a package without them.
+ordered_json fireLightsInfo(const DefaultLookView& view) {
+    const world::Package* p = view.package.get();
+    const world::ResolvedLook& look = view.look();
+    const basis::GridWeights& weights = view.weights;
     ordered_json frames = ordered_json::array();
     int stored = 0;
     for (int slot = 0; slot < p->frameCount(); ++slot) {
@@ -94,12 +92,10 @@ ordered_json fireLightsInfo(const std::filesystem::path& path) {
 
 // The frames' fire probes (basis/fire_probes.h) for the package's default look: the grid's placement
 // and every probe's 9 RGB SH coefficients; null for a package without them.
-ordered_json fireProbesInfo(const std::filesystem::path& path) {
-    const std::optional<DefaultLookView> view = defaultLookView(path);
-    if (!view) return nullptr;
-    const world::Package* p = view->package.get();
-    const world::ResolvedLook& look = view->look();
-    const basis::GridWeights& weights = view->weights;
+ordered_json fireProbesInfo(const DefaultLookView& view) {
+    const world::Package* p = view.package.get();
+    const world::ResolvedLook& look = view.look();
+    const basis::GridWeights& weights = view.weights;
     ordered_json frames = ordered_json::array();
     for (int slot = 0; slot < p->frameCount(); ++slot) {
         const basis::FireProbeTable* table = p->fireProbes(slot);
@@ -184,8 +180,11 @@ ordered_json packageInfo(const std::filesystem::path& path) {
             info["inputs"] = inputs;
         }
     }
-    if (ordered_json lights = fireLightsInfo(path); !lights.is_null()) info["fire_lights"] = lights;
-    if (ordered_json probes = fireProbesInfo(path); !probes.is_null()) info["fire_probes"] = probes;
+    // Opened once, as the runtime plays it, for both; a package it cannot play has neither.
+    if (const std::optional<DefaultLookView> view = defaultLookView(path)) {
+        if (ordered_json lights = fireLightsInfo(*view); !lights.is_null()) info["fire_lights"] = lights;
+        if (ordered_json probes = fireProbesInfo(*view); !probes.is_null()) info["fire_probes"] = probes;
+    }
     return info;
 }
 
