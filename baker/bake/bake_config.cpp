@@ -110,7 +110,7 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         if (j.contains("trace")) {
             const json& t = j["trace"];
             checkKeys(t, {"cell_voxels", "max_cells_per_axis", "max_cell_optical_depth", "light_points_per_axis", "photons_primary",
-                          "photons_per_order", "photon_noise_target", "max_photon_scale", "photon_pilot_share", "max_orders", "order_tolerance",
+                          "photons_per_order", "photon_noise_target", "max_photon_scale", "photon_pilot_share", "min_order_photon_share", "max_orders", "order_tolerance",
                           "step_voxels", "footprint_step", "footprint_samples_per_axis",
                           "radiance_samples_per_axis"},
                       "trace");
@@ -124,6 +124,7 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             c.trace.photon_noise_target = t.value("photon_noise_target", c.trace.photon_noise_target);
             c.trace.max_photon_scale = t.value("max_photon_scale", c.trace.max_photon_scale);
             c.trace.photon_pilot_share = t.value("photon_pilot_share", c.trace.photon_pilot_share);
+            c.trace.min_order_photon_share = t.value("min_order_photon_share", c.trace.min_order_photon_share);
             c.trace.max_orders = t.value("max_orders", c.trace.max_orders);
             c.trace.order_tolerance = t.value("order_tolerance", c.trace.order_tolerance);
             c.trace.step_voxels = t.value("step_voxels", c.trace.step_voxels);
@@ -159,12 +160,13 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             c.trace.footprint_samples_per_axis > 8 || c.trace.radiance_samples_per_axis < 0 ||
             c.trace.radiance_samples_per_axis > 8 || !(c.trace.photon_noise_target >= 0.0) ||
             c.trace.max_photon_scale < 1 || c.trace.max_photon_scale > 64 ||
-            !(c.trace.photon_pilot_share > 0.0 && c.trace.photon_pilot_share <= 1.0))
+            !(c.trace.photon_pilot_share > 0.0 && c.trace.photon_pilot_share <= 1.0) ||
+            !(c.trace.min_order_photon_share > 0.0 && c.trace.min_order_photon_share <= 1.0))
             throw Error(ErrorCode::InvalidArgument,
                         "trace settings must be positive (footprint_samples_per_axis 0..8, 0 = from the image size; "
-                        "radiance_samples_per_axis 0..8, 0 = half the footprint's, rounded up; "
+                        "radiance_samples_per_axis 0..8, 0 = every footprint ray; "
                         "photon_noise_target >= 0, 0 = the photons as given; max_photon_scale 1..64; "
-                        "photon_pilot_share in (0, 1])");
+                        "photon_pilot_share and min_order_photon_share in (0, 1])");
     } catch (const Error& e) {
         throw Error(e.code(), file.string() + ": " + e.what());
     } catch (const std::exception& e) {  // nlohmann-json's: the file is not the JSON a config is
@@ -292,7 +294,8 @@ std::string configToJson(const BakeConfig& c) {
                   {"photons_per_order", c.trace.photons_per_order},
                   {"photon_noise_target", c.trace.photon_noise_target},
                   {"max_photon_scale", c.trace.max_photon_scale},
-                  {"photon_pilot_share", c.trace.photon_pilot_share}, {"max_orders", c.trace.max_orders},
+                  {"photon_pilot_share", c.trace.photon_pilot_share},
+                  {"min_order_photon_share", c.trace.min_order_photon_share}, {"max_orders", c.trace.max_orders},
                   {"order_tolerance", c.trace.order_tolerance},   {"step_voxels", c.trace.step_voxels},
                   {"footprint_samples_per_axis", c.trace.footprint_samples_per_axis},
                   {"radiance_samples_per_axis", c.trace.radiance_samples_per_axis}};

@@ -158,6 +158,7 @@ nlohmann::ordered_json errorsEntry(const FrameBakeReport& fr) {
             {"scattering_tail_fraction", fr.tail_fraction},
             {"photon_chains", fr.photon_chains},
             {"photon_multiple", fr.photon_multiple},
+            {"order_photon_share", fr.order_photon_share},
             {"predicted_photon_noise", fr.predicted_photon_noise},
             {"radiance_quadrature_error", fr.radiance_quadrature_error},
             {"predicted_look_error", fr.predictedLookError()}};
@@ -189,6 +190,7 @@ FrameBakeReport reportFromMetadata(int frame, const FrameMetadata& kept) {
     fr.radiance_quadrature_error = e.value("radiance_quadrature_error", 0.0);  // before 2026-12-06's radiance rays
     // Before the pilot chains (2026-12-06) every chain held half the settings' photons.
     fr.photon_multiple = e.value("photon_multiple", 0.5 * fr.photon_chains);
+    fr.order_photon_share = e.value("order_photon_share", 1.0);  // before 2026-12-06 every order had its photons
     if (e.contains("storage_target")) {
         const nlohmann::ordered_json& t = e.at("storage_target");
         fr.has_target = true;
@@ -386,6 +388,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         fr.tail_fraction = traced.tail_fraction;
         fr.photon_chains = traced.photon_chains;
         fr.photon_multiple = traced.photon_multiple;
+        fr.order_photon_share = traced.order_photon_share;
         fr.predicted_photon_noise = traced.predicted_photon_noise;
         fr.radiance_quadrature_error = traced.radiance_quadrature_error;
         fr.setup_seconds = traced.seconds_setup;

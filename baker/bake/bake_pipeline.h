@@ -38,6 +38,7 @@ struct FrameBakeReport {
     double tail_fraction = 0.0;        // largest share the geometric tail of the untraced orders added
     int photon_chains = 0;             // independent photon chains traced
     double photon_multiple = 0.0;      // photons traced / the photons the settings name
+    double order_photon_share = 1.0;   // the further orders' photons / equal ones (min_order_photon_share)
     double predicted_photon_noise = 0.0;  // the worst column's predicted photon noise (photon_noise.h)
     // The radiance rays' quadrature error (relative Frobenius), measured on every 16th pixel
     // (FrameBasis::radiance_quadrature_error; 0 when every footprint ray carries radiance).

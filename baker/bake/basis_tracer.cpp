@@ -249,6 +249,7 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
         }
         out.photon_chains = scattered.chains();
         out.photon_multiple = scattered.photonMultiple();
+        out.order_photon_share = scattered.orderPhotonShare();
         out.predicted_photon_noise = noise;
         lbar_sum = std::move(scattered).estimate();
         out.scattering_orders = scattered.orders();

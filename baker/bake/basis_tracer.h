@@ -109,6 +109,16 @@ struct TraceSettings {
     // the bundled sample at 256x256 baked in 53.3 s against 65.5 s, its prediction 0.96% against
     // 0.47% (0.25 with a target of 0.007: 4 quarter chains, 0.70%, 63.6 s).
     double photon_pilot_share = 1.0;
+    // Photons of each order after the first further one, as a share of photons_per_order: that
+    // order's expected power over the first further order's (OrderSeries::nextOrderShare: the share
+    // that minimises the summed noise of the orders for their photons), never below this. Where the
+    // orders fall off fast (thin or absorbing media: frame 12 of the bundled sample, r = 0.2-0.4),
+    // later orders cost a fraction of the first; in dense high-albedo smoke (r near the albedo) each
+    // gets nearly all. 1 gives every order the same photons (the bytes of bakes before it). The
+    // chains' noise sample (scattered_light.h) still measures what the orders hand on, so the noise
+    // target holds either way. Below 0.125 an order's ratio to the one before, which decides when
+    // orders stop and their tail, would rest on too few photons.
+    double min_order_photon_share = 0.125;
     // Scattering orders (photon passes) at most; 0 traces none (direct light and single scattering
     // of the lights only: a diagnostic, tests/bake/scatter_order_report).
     int max_orders = 12;
@@ -197,6 +207,7 @@ struct FrameBasis {
     double tail_fraction = 0.0;         // largest share of a column's scattered power the added tail is
     int photon_chains = 0;              // independent photon chains traced
     double photon_multiple = 0.0;       // photons traced / the photons the settings name
+    double order_photon_share = 1.0;    // ScatteredLightTracer::orderPhotonShare
     double predicted_photon_noise = 0.0;  // photon_noise.h: the worst column's prediction
     int cell_edge_voxels = 0;           // what the plan chose
     int light_spacing_voxels = 0;

@@ -26,6 +26,7 @@ void OrderSeries::add(const std::vector<float>& field) {
     previous_.swap(last_);
     last_.swap(power);
     for (std::size_t i = 0; i < total_.size(); ++i) total_[i] += last_[i];
+    if (orders_ == 0) first_ = last_;
     ++orders_;
 }
 
@@ -53,6 +54,20 @@ bool OrderSeries::converged(double tolerance) const {
     for (std::size_t i = 0; i < total_.size(); ++i)
         if (counts(i) && last_[i] * tailFactor(i) > tolerance * total_[i]) return false;
     return true;
+}
+
+double OrderSeries::nextOrderShare() const {
+    if (orders_ == 0) return 1.0;
+    double share = 0.0;
+    for (int c = 0; c < counted_; ++c) {
+        double last = 0.0, first = 0.0;
+        for (int g = 0; g < points_; ++g) {
+            last += last_[static_cast<std::size_t>(g) * columns_ + c];
+            first += first_[static_cast<std::size_t>(g) * columns_ + c];
+        }
+        if (first > 0.0) share = std::max(share, last / first);
+    }
+    return share;
 }
 
 std::vector<float> OrderSeries::tailFactors() const {

@@ -42,6 +42,15 @@ class OrderSeries {
     double lastOrderFraction() const;
     double tailFraction() const;
 
+    // The photons the next order is worth, as a share of the first further order's (TraceSettings::
+    // min_order_photon_share): the largest, over the counted columns with power, of the column's last
+    // order's power over its first order's (grid points summed). An order's image noise is about its
+    // power over the square root of its photons, so at a fixed photon cost the summed variance is
+    // least with photons in proportion to the power (the Lagrange condition), and as the orders
+    // shrink geometrically the last order's power over the first is the next's over the second.
+    // 1 before an order is known.
+    double nextOrderShare() const;
+
     int orders() const { return orders_; }
 
   private:
@@ -57,7 +66,7 @@ class OrderSeries {
     int points_, columns_, counted_;
     double albedo_;
     int orders_ = 0;
-    std::vector<double> total_, last_, previous_;  // per g * columns + c
+    std::vector<double> total_, last_, previous_, first_;  // per g * columns + c
 };
 
 }  // namespace firelook::bake

@@ -99,7 +99,11 @@ void ScatteredLightTracer::traceChain(int chain, const std::function<void(double
     add(order, nullptr);
     progress(0.2);
     for (int k = 2; k <= settings_.max_orders; ++k) {
-        order = photonPass(ctx_, SourceKind::Scattered, *density_sampler_, &order, photons_per_order_, seed + 16 * k,
+        const double share = std::clamp(series.nextOrderShare(), settings_.min_order_photon_share, 1.0);
+        const int photons = std::max(1, static_cast<int>(std::lround(share * photons_per_order_)));
+        order_photons_ += photons;
+        order_photons_equal_ += photons_per_order_;
+        order = photonPass(ctx_, SourceKind::Scattered, *density_sampler_, &order, photons, seed + 16 * k,
                            buffers_);
         series.add(order);
         add(order, nullptr);

@@ -50,6 +50,11 @@ class ScatteredLightTracer {
     int orders() const { return orders_; }  // the most any chain traced
     double lastOrderFraction() const { return last_order_fraction_; }
     double tailFraction() const { return tail_fraction_; }
+    // Photons the further orders were traced with, as a share of every order at photons_per_order
+    // (TraceSettings::min_order_photon_share; 1 before any order).
+    double orderPhotonShare() const {
+        return order_photons_equal_ > 0 ? static_cast<double>(order_photons_) / order_photons_equal_ : 1.0;
+    }
 
   private:
     void traceChain(int chain, const std::function<void(double)>& progress);
@@ -66,6 +71,7 @@ class ScatteredLightTracer {
     int chains_ = 0;
     int orders_ = 0;
     double last_order_fraction_ = 0.0, tail_fraction_ = 0.0;
+    long long order_photons_ = 0, order_photons_equal_ = 0;
 };
 
 }  // namespace firelook::bake

@@ -43,6 +43,7 @@ void writeReportJson(const std::string& path, const std::string& sequence, const
                           {"scattering_orders", f.scattering_orders},
                           {"photon_chains", f.photon_chains},
                           {"photon_multiple", f.photon_multiple},
+                          {"order_photon_share", f.order_photon_share},
                           {"predicted_photon_noise", f.predicted_photon_noise},
                           {"radiance_quadrature_error", f.radiance_quadrature_error},
                           {"predicted_look_error", f.predictedLookError()},

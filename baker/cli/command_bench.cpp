@@ -244,6 +244,7 @@ bake::TraceSettings traceSettingsOf(const ordered_json& metadata) {
     t.photon_noise_target = s.value("photon_noise_target", 0.0);  // packages from before it: fixed photons
     t.max_photon_scale = s.value("max_photon_scale", t.max_photon_scale);
     t.photon_pilot_share = s.value("photon_pilot_share", 1.0);  // before the pilot chains: whole ones
+    t.min_order_photon_share = s.value("min_order_photon_share", 1.0);  // before it: every order its photons
     t.max_orders = s.at("max_orders");
     t.order_tolerance = s.at("order_tolerance");
     t.step_voxels = s.at("step_voxels");

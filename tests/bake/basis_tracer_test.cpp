@@ -496,5 +496,42 @@ TEST(BasisTracer, PilotChainsCostWhatTheTargetAsks) {
     EXPECT_DOUBLE_EQ(capped.photon_multiple, 2.0);
 }
 
+// Later orders get photons by their power (TraceSettings::min_order_photon_share): in the scattering
+// box (albedo 0.7, optical depth 0.8-3) each order has 0.2-0.5 of the power of the one before, so
+// the orders after the second cost a fraction of equal photons, and the image is the same light:
+// every column's energy within the two bakes' photon noise. Tolerance: 4 times the larger predicted
+// photon noise of a column (relative RMSE over the pixels, so an upper bound on the noise of the
+// image's sum), the noise being that of 8000 photons an order.
+TEST(BasisTracer, LaterOrdersGetPhotonsByTheirPower) {
+    ScatteringBox box;
+    TraceSettings settings = fastTrace(3);
+    settings.photons_primary = settings.photons_per_order = 8000;
+    settings.max_orders = 12;
+    settings.min_order_photon_share = 1.0;
+    const FrameBasis equal = traceFrameBasis(box.medium, box.camera, box.model, settings);
+    settings.min_order_photon_share = TraceSettings{}.min_order_photon_share;
+    const FrameBasis by_power = traceFrameBasis(box.medium, box.camera, box.model, settings);
+    std::printf("[measured] orders %d / %d, photons of the further orders %.3f of equal ones; predicted noise "
+                "%.4f / %.4f\n",
+                equal.scattering_orders, by_power.scattering_orders, by_power.order_photon_share,
+                equal.predicted_photon_noise, by_power.predicted_photon_noise);
+    EXPECT_DOUBLE_EQ(equal.order_photon_share, 1.0);
+    ASSERT_GE(by_power.scattering_orders, 4);
+    EXPECT_LT(by_power.order_photon_share, 0.6);
+    EXPECT_GE(by_power.order_photon_share, TraceSettings{}.min_order_photon_share);
+    const int C = box.model.columnsPerPoint(), pixels = 8 * 8;
+    const double tolerance = 4.0 * std::max(equal.predicted_photon_noise, by_power.predicted_photon_noise);
+    for (int point = 0; point < box.model.axes.pointCount(); ++point)
+        for (int c = 0; c < C; ++c) {
+            double a = 0.0, b = 0.0;
+            for (int p = 0; p < pixels; ++p) {
+                a += basisValue(equal, box.model, p, point, c);
+                b += basisValue(by_power, box.model, p, point, c);
+            }
+            ASSERT_GT(a, 0.0);
+            EXPECT_NEAR(b / a, 1.0, tolerance) << "grid point " << point << " column " << c;
+        }
+}
+
 }  // namespace
 }  // namespace firelook::bake

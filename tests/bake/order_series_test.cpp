@@ -64,5 +64,23 @@ TEST(OrderSeries, UncountedColumnsDoNotDecideTheStop) {
     EXPECT_GT(series.tailFactors()[1], 3.9f);
 }
 
+// Photons for the next order: the largest counted column's last order over its first (1 before any
+// order), the columns summed over their grid points.
+TEST(OrderSeries, NextOrderShareIsTheLastOrderOverTheFirst) {
+    TwoColumns t;
+    OrderSeries series(t.cells, 1, 2, 2, 0.9);
+    EXPECT_DOUBLE_EQ(series.nextOrderShare(), 1.0);
+    series.add(t.order(1));
+    EXPECT_DOUBLE_EQ(series.nextOrderShare(), 1.0);
+    series.add(t.order(2));
+    EXPECT_NEAR(series.nextOrderShare(), 0.8, 1e-6);  // column 1's; column 0's is 0.1
+    series.add(t.order(3));
+    EXPECT_NEAR(series.nextOrderShare(), 0.64, 1e-6);
+    // Counting column 0 only: its 0.01.
+    OrderSeries bright(t.cells, 1, 2, 1, 0.9);
+    for (int k = 1; k <= 3; ++k) bright.add(t.order(k));
+    EXPECT_NEAR(bright.nextOrderShare(), 0.01, 1e-6);
+}
+
 }  // namespace
 }  // namespace firelook::bake
