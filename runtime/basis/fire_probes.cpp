@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <glm/geometric.hpp>
 #include <numbers>
 
 #include "basis/section_bytes.h"
@@ -181,17 +182,45 @@ Rgb fluenceFromSh(const Rgb* sh) {
     return Rgb(f);
 }
 
+double directionalShare(double l00, double l1_length) {
+    if (!(l00 > 0.0) || !(l1_length > 0.0)) return 0.0;
+    const double q = std::min(1.0, l1_length / (std::sqrt(3.0) * l00));
+    const double x = std::clamp(4.0 * q - 3.0, 0.0, 1.0);
+    return x * std::sqrt(x);
+}
+
 Rgb irradianceFromSh(const Rgb* sh, const glm::dvec3& normal) {
     constexpr double pi = std::numbers::pi;
     static constexpr double kBand[kFireProbeCoefficients] = {
         pi, 2 * pi / 3, 2 * pi / 3, 2 * pi / 3, pi / 4, pi / 4, pi / 4, pi / 4, pi / 4};
+    constexpr double kY00 = 0.28209479177387814, kY1 = 0.4886025119029199;  // Y1's factor: sqrt(3) Y00
+    // Order 2 rings below 0 where little light arrives; a NaN (a zero normal) gives 0 too.
+    const auto positive = [](double v) { return v > 0.0 ? v : 0.0; };
     double y[kFireProbeCoefficients];
     shBasis(normal, y);
-    glm::dvec3 e(0.0);
-    for (int k = 0; k < kFireProbeCoefficients; ++k) e += kBand[k] * y[k] * glm::dvec3(sh[k]);
-    // Order 2 rings below 0 where little light arrives; a NaN (a zero normal) gives 0 too.
-    for (int c = 0; c < 3; ++c) e[c] = e[c] > 0.0 ? e[c] : 0.0;
-    return Rgb(e);
+    Rgb out;
+    for (int c = 0; c < 3; ++c) {
+        double sh_only = 0.0;
+        for (int k = 0; k < kFireProbeCoefficients; ++k) sh_only += kBand[k] * y[k] * double(sh[k][c]);
+        const glm::dvec3 l1(sh[3][c], sh[1][c], sh[2][c]);  // (x, y, z): Y11, Y1-1, Y10
+        const double length = glm::length(l1);
+        const double w = directionalShare(sh[0][c], length);
+        if (!(w > 0.0)) {
+            out[c] = static_cast<float>(positive(sh_only));
+            continue;
+        }
+        // The light from d = l1 / |l1| of the intensity whose projection has that L1 (at most what
+        // L00 allows), and the rest of the coefficients after it, by the SH rule.
+        const glm::dvec3 d = l1 / length;
+        const double intensity = std::min(length / kY1, double(sh[0][c]) / kY00);
+        double yd[kFireProbeCoefficients];
+        shBasis(d, yd);
+        double split = intensity * positive(glm::dot(normal, d));
+        for (int k = 0; k < kFireProbeCoefficients; ++k)
+            split += kBand[k] * y[k] * (double(sh[k][c]) - intensity * yd[k]);
+        out[c] = static_cast<float>(w * positive(split) + (1.0 - w) * positive(sh_only));
+    }
+    return out;
 }
 
 }  // namespace firelook::basis

@@ -14,8 +14,9 @@
 // SH: the real basis in the usual order (Y00; Y1-1, Y10, Y11; Y2-2, Y2-1, Y20, Y21, Y22) of world
 // directions pointing from the probe towards where the light comes from. Units: radiance (the
 // model's, docs/model.md). From a probe's coefficients L_lm: fluence rate (radiance integrated over
-// all directions) sqrt(4 pi) L00; irradiance on a surface facing n, sum_l A_l sum_m L_lm Y_lm(n)
-// with A = (pi, 2 pi / 3, pi / 4) (Ramamoorthi and Hanrahan), clamped at 0.
+// all directions) sqrt(4 pi) L00; irradiance on a surface facing n, irradianceFromSh below: the SH rule
+// sum_l A_l sum_m L_lm Y_lm(n), A = (pi, 2 pi / 3, pi / 4) (Ramamoorthi and Hanrahan), clamped at 0,
+// blended with a directional split where the light comes from one side.
 #pragma once
 
 #include <cstddef>
@@ -97,8 +98,23 @@ void sampleFireProbes(const FireProbeGrid& grid, std::span<const Rgb> values, co
                       Rgb* out);
 // From 9 coefficients: the fluence rate, and the irradiance on a surface facing `normal` (a unit
 // vector); both >= 0 and finite for finite input.
+//
+// The irradiance is order-2 SH's where the light comes from all around, and a directional split's
+// where it comes from one side, blended by how one-sided it is (per channel). Order 2 alone makes a
+// small source's irradiance 6.25% high facing it (the cosine lobe's bands beyond 2 are cut) and up to
+// 15% off towards its horizon, and a fire seen from the ground or the probes beside it is such a
+// source. The split takes out the light from d = L1 / |L1| of the intensity I whose projection has
+// that L1, I max(0, n . d), and adds the rest (L - I Y(d)) by the SH rule: exact for light from one
+// direction. For a uniform cone of half-angle a, q = |L1| / (sqrt(3) L00) = (1 + cos a) / 2 (1 for
+// one direction, 0.5 for a hemisphere), and the weight w = clamp(4 q - 3, 0, 1)^1.5 of the split,
+// fitted to cones facing the surface (the split alone is 6% low for a hemisphere, where order 2 is
+// exact), leaves the irradiance facing a cone within 0.5% up to a = 30 degrees, where order 2 alone
+// is 4-6% high, and within order 2's own 1% beyond; off-axis within 4.3% up to 80 degrees, where order
+// 2 alone is up to 15% off (tests/bake/fire_probes_test.cpp, IrradianceOfAConeOfLight).
 Rgb fluenceFromSh(const Rgb* sh);
 Rgb irradianceFromSh(const Rgb* sh, const glm::dvec3& normal);
+// The weight of the directional split above for a channel's L00 and |L1|: 0 to 1.
+double directionalShare(double l00, double l1_length);
 // The 9 basis functions at a unit direction.
 void shBasis(const glm::dvec3& direction, double* y);
 

@@ -667,8 +667,10 @@ typedef struct fl_fire_probe_grid {
    the light comes from) of the radiance arriving from the fire, channel c (the model's radiance, as a
    look's light_irradiance per steradian). capacity: floats available; 0 only asks: *out_count (if not
    null) gets 27 times the probe count. The fluence rate at a probe is sqrt(4 pi) L00; the irradiance on
-   a surface facing a unit normal n is sum_l A_l sum_m L_lm Y_lm(n), A = (pi, 2 pi / 3, pi / 4), at least
-   0. Every value finite. A frame not in the package, or a package baked without fire probes:
+   a surface facing a unit normal n is order-2 SH's, sum_l A_l sum_m L_lm Y_lm(n), A = (pi, 2 pi / 3,
+   pi / 4), at least 0, blended per channel with a directional split where the light comes from one
+   side (the exact rule: docs/package-format.md, "Fire probes"; fl_fire_probes_sample applies it).
+   Every value finite. A frame not in the package, or a package baked without fire probes:
    FL_ERROR_NOT_FOUND; capacity below the count: FL_ERROR_BUFFER_TOO_SMALL; a look that does not fit the
    package: FL_ERROR_LOOK. Costs under a microsecond per probe (0.3 measured) plus the look's emission fit. */
 FIRELOOK_API fl_result fl_package_get_fire_probes(fl_package package, int32_t frame, fl_look look,
