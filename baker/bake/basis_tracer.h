@@ -197,8 +197,9 @@ struct FrameBasis {
     std::vector<float> matrix;          // pixels x columns, pixel-major; column = point * C + c
     int footprint_samples = 1;          // rays per pixel for alpha's optical depths
     int radiance_samples = 1;           // rays per pixel for its radiance
-    // With fewer radiance rays than footprint rays: the relative Frobenius error of the basis's
-    // radiance against all the footprint rays', on every 16th pixel (0 when they are the same rays).
+    // With fewer radiance rays than footprint rays: the relative error of the basis's radiance
+    // against all the footprint rays', on every 16th pixel, as a look sees it: per grid point, the
+    // emission bins summed and each light's column (0 when they are the same rays).
     double radiance_quadrature_error = 0.0;
     std::vector<float> depth_b;   // O_b: footprint sample x pixel
     std::vector<float> depth_a;   // O_a: footprint sample x alpha threshold x pixel

@@ -233,16 +233,27 @@ TEST(BasisTracer, RadianceRaysCanBeFewerThanTheFootprintRays) {
     EXPECT_FALSE(split.matrix == depths.matrix) << "and not the 4x4 rays' (the check can fail)";
     EXPECT_TRUE(split.depth_b == depths.depth_b && split.depth_a == depths.depth_a) << "the depths are the 4x4 rays'";
 
-    // The quadrature error the trace reports is the relative Frobenius error of the 2x2 image
-    // against the 4x4 one over every 4th pixel of every 4th row, from (2, 2).
+    // The quadrature error the trace reports is the relative error of the 2x2 image against the 4x4
+    // one over every 4th pixel of every 4th row, from (2, 2), per grid point with the emission bins
+    // summed and each light's column alone.
     EXPECT_EQ(depths.radiance_quadrature_error, 0.0) << "no quadrature error where every ray carries radiance";
     double diff2 = 0.0, value2 = 0.0;
     for (int py = 2; py < split.height; py += 4)
         for (int px = 2; px < split.width; px += 4)
-            for (int j = 0; j < split.columns; ++j) {
-                const std::size_t i = (static_cast<std::size_t>(py) * split.width + px) * split.columns + j;
-                diff2 += std::pow(double(split.matrix[i]) - depths.matrix[i], 2);
-                value2 += std::pow(double(depths.matrix[i]), 2);
+            for (int g = 0; g < box.model.axes.pointCount(); ++g) {
+                const int C = box.model.columnsPerPoint(), bins = box.model.bins.count;
+                const std::size_t at = (static_cast<std::size_t>(py) * split.width + px) * split.columns + g * C;
+                double coarse = 0.0, fine = 0.0;
+                for (int c = 0; c < bins; ++c) {
+                    coarse += split.matrix[at + c];
+                    fine += depths.matrix[at + c];
+                }
+                diff2 += std::pow(coarse - fine, 2);
+                value2 += fine * fine;
+                for (int c = bins; c < C; ++c) {
+                    diff2 += std::pow(double(split.matrix[at + c]) - depths.matrix[at + c], 2);
+                    value2 += std::pow(double(depths.matrix[at + c]), 2);
+                }
             }
     ASSERT_GT(diff2, 0.0) << "the case must have a quadrature error";
     EXPECT_NEAR(split.radiance_quadrature_error, std::sqrt(diff2 / value2), 1e-9);
