@@ -121,10 +121,8 @@ int footprintSamplesPerAxis(const TraceSettings& settings, int width, int height
 }
 
 int radianceSamplesPerAxis(const TraceSettings& settings, int footprint_per_axis) {
-    const int m = settings.radiance_samples_per_axis > 0
-                      ? settings.radiance_samples_per_axis
-                      : static_cast<int>(std::ceil(settings.radiance_samples_share * footprint_per_axis - 1e-9));
-    return std::clamp(m, 1, footprint_per_axis);
+    const int m = settings.radiance_samples_per_axis > 0 ? settings.radiance_samples_per_axis : footprint_per_axis;
+    return std::min(m, footprint_per_axis);
 }
 
 TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& camera, const BasisModel& model,

@@ -146,19 +146,13 @@ struct TraceSettings {
     int footprint_samples_per_axis = 0;
     // Of those, how many (m x m, cell-centred in the same footprint) gather the pixel's radiance;
     // the other rays march for alpha's optical depths only, several times cheaper. 0 (the default):
-    // m = ceil(radiance_samples_share n) below; m is at most n. The radiance is linear in what each
-    // ray carries where alpha is not, but fewer rays still cost accuracy: with m = ceil(n / 2) (2 of
-    // 4 at 128x128) scripts/bench/accuracy.sh measured the emission regime's worst look at 1.64%
-    // against 0.83% (over issue 27's 1.5% bar; median 0.43% against 0.17%), the corners' median
-    // 0.42% against 0.20%, the other regimes within 0.05 points, for camera rays 2.6 times as fast.
-    // So the preview quality takes m = 2 (bake_config.h).
+    // all of them (m = n); m is at most n. The radiance is linear in what each ray carries where
+    // alpha is not, but fewer rays still cost accuracy: with m = ceil(n / 2) (2 of 4 at 128x128)
+    // scripts/bench/accuracy.sh measured the emission regime's worst look at 1.64% against 0.83%
+    // (over issue 27's 1.5% bar; median 0.43% against 0.17%), the corners' median 0.42% against
+    // 0.20%, the other regimes within 0.05 points, for camera rays 2.6 times as fast. So the
+    // preview quality takes m = 2 (bake_config.h) and the default keeps every ray.
     int radiance_samples_per_axis = 0;
-    // With radiance_samples_per_axis 0: m = ceil(this n). 0.75 (3 of 4 at 128x128, 3 of 3 from 256,
-    // 4 of 5 and 5 of 6 below 128): the emission regime 0.20% / 0.85% (median / worst) against
-    // 0.17% / 0.83% with every ray, the corners 0.24% / 0.42% against 0.20% / 0.43% (the smoke
-    // regimes moved by 0.05 points at most even with 2 of 4), for camera rays 1.2-1.4 times as fast
-    // at 128x128 (frames 12 and 7 of the bundled sample). 1: every footprint ray (the final quality).
-    double radiance_samples_share = 0.75;
     // Bytes the trace may use for what it can size (the scattered-light cells): 0 = no limit.
     // planFrameTrace() coarsens the cells until they fit.
     std::uint64_t memory_budget_bytes = 0;

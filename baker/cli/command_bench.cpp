@@ -251,7 +251,6 @@ bake::TraceSettings traceSettingsOf(const ordered_json& metadata) {
     t.footprint_samples_per_axis = s.value("footprint_samples_per_axis", 1);
     // Packages from before the key: every footprint ray carried radiance, the default.
     t.radiance_samples_per_axis = s.value("radiance_samples_per_axis", t.radiance_samples_per_axis);
-    t.radiance_samples_share = s.value("radiance_samples_share", 1.0);  // before it: every ray
     return t;
 }
 

@@ -210,12 +210,9 @@ TEST(BasisTracer, FootprintRaysFollowTheImageSizeUnlessGiven) {
 // not depend on n.
 TEST(BasisTracer, RadianceRaysCanBeFewerThanTheFootprintRays) {
     TraceSettings settings;
-    ASSERT_EQ(settings.radiance_samples_per_axis, 0) << "the default: from radiance_samples_share";
+    ASSERT_EQ(settings.radiance_samples_per_axis, 0) << "the default: every footprint ray";
     EXPECT_EQ(radianceSamplesPerAxis(settings, 3), 3);
-    EXPECT_EQ(radianceSamplesPerAxis(settings, 4), 3);
-    EXPECT_EQ(radianceSamplesPerAxis(settings, 6), 5);
-    settings.radiance_samples_share = 1.0;
-    EXPECT_EQ(radianceSamplesPerAxis(settings, 6), 6) << "share 1: every footprint ray";
+    EXPECT_EQ(radianceSamplesPerAxis(settings, 6), 6);
     settings.radiance_samples_per_axis = 5;
     EXPECT_EQ(radianceSamplesPerAxis(settings, 3), 3) << "never more than the footprint's";
     EXPECT_EQ(radianceSamplesPerAxis(settings, 8), 5) << "a given m is kept";
