@@ -40,7 +40,7 @@ struct FrameBakeReport {
     double photon_multiple = 0.0;      // photons traced / the photons the settings name
     double order_photon_share = 1.0;   // the further orders' photons / equal ones (min_order_photon_share)
     double predicted_photon_noise = 0.0;  // the worst column's predicted photon noise (photon_noise.h)
-    // The radiance rays' quadrature error (relative Frobenius), measured on every 16th pixel
+    // The radiance rays' quadrature error as a look sees it, measured on every 16th pixel
     // (FrameBasis::radiance_quadrature_error; 0 when every footprint ray carries radiance).
     double radiance_quadrature_error = 0.0;
     // What the bake predicts for a look's relative RMSE: the SVD and storage error, the photon noise

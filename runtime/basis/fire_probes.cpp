@@ -163,11 +163,14 @@ void sampleFireProbes(const FireProbeGrid& grid, std::span<const Rgb> values, co
     for (int c = 0; c < K; ++c) out[c] = Rgb(sum[c]);
 }
 
+// Y00 and the factor of the three Y1m: 1 / (2 sqrt(pi)) and sqrt(3) times that.
+constexpr double kY00 = 0.28209479177387814, kY1 = 0.4886025119029199;
+
 void shBasis(const glm::dvec3& d, double* y) {
-    y[0] = 0.28209479177387814;
-    y[1] = 0.4886025119029199 * d.y;
-    y[2] = 0.4886025119029199 * d.z;
-    y[3] = 0.4886025119029199 * d.x;
+    y[0] = kY00;
+    y[1] = kY1 * d.y;
+    y[2] = kY1 * d.z;
+    y[3] = kY1 * d.x;
     y[4] = 1.0925484305920792 * d.x * d.y;
     y[5] = 1.0925484305920792 * d.y * d.z;
     y[6] = 0.31539156525252005 * (3.0 * d.z * d.z - 1.0);
@@ -193,7 +196,6 @@ Rgb irradianceFromSh(const Rgb* sh, const glm::dvec3& normal) {
     constexpr double pi = std::numbers::pi;
     static constexpr double kBand[kFireProbeCoefficients] = {
         pi, 2 * pi / 3, 2 * pi / 3, 2 * pi / 3, pi / 4, pi / 4, pi / 4, pi / 4, pi / 4};
-    constexpr double kY00 = 0.28209479177387814, kY1 = 0.4886025119029199;  // Y1's factor: sqrt(3) Y00
     // Order 2 rings below 0 where little light arrives; a NaN (a zero normal) gives 0 too.
     const auto positive = [](double v) { return v > 0.0 ? v : 0.0; };
     double y[kFireProbeCoefficients];
