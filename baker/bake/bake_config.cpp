@@ -214,7 +214,6 @@ TraceSettings qualityTrace(const std::string& quality) {
     if (quality == "default") return t;
     if (quality == "preview") {
         t.radiance_samples_per_axis = 2;
-        t.step_voxels = 0.25;
         t.photon_noise_target = 0.02;
         t.photon_pilot_share = 0.25;
         t.max_photon_scale = 2;
@@ -222,6 +221,7 @@ TraceSettings qualityTrace(const std::string& quality) {
         return t;
     }
     if (quality == "final") {
+        t.step_voxels = 0.125;
         t.photon_noise_target = 0.005;
         t.max_photon_scale = 8;
         t.order_tolerance = 0.001;

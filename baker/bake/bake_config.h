@@ -70,10 +70,11 @@ void applyConfigFile(BakeConfig& config, const std::filesystem::path& file);
 // The trace settings of a quality preset (firelook bake --quality, bake.json "quality"; what each
 // costs and reaches: docs/bake-config.md):
 //   "preview": fewer seconds, for looks being designed: 2x2 of the footprint rays carry radiance,
-//              a 0.25-voxel step, photon noise up to 2% with chains of a quarter of the photons,
-//              orders until 0.5% is left;
+//              photon noise up to 2% with chains of a quarter of the photons, orders until 0.5%
+//              is left;
 //   "default": TraceSettings as declared (issue 27's accuracy bars, scripts/bench/accuracy.sh);
-//   "final":   photon noise up to 0.5% (up to 8 times the photons), orders until 0.1% is left.
+//   "final":   a 0.125-voxel step, photon noise up to 0.5% (up to 8 times the photons), orders until
+//              0.1% is left.
 // Anything else is an InvalidArgument Error naming the three.
 TraceSettings qualityTrace(const std::string& quality);
 // config.quality = quality and config.trace = qualityTrace(quality).

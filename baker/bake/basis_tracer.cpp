@@ -19,6 +19,7 @@
 #include "bake/scattered_light.h"
 #include "bake/trace_tables.h"
 #include "common/error.h"
+#include "render/random.h"
 
 namespace firelook::bake {
 namespace {
@@ -99,6 +100,13 @@ void quadratureCheck(const float* row, const float* fine, int points, int column
             value2 += double(f[c]) * f[c];
         }
     }
+}
+
+// The phase of a camera ray's first step (march()), in (0, 1]: a fixed pseudo-random number per
+// pixel and ray index, so the image does not depend on the threads, the optical depths not on the
+// photons' seed, and a pixel's m x m radiance rays are what n = m footprint rays would march.
+double cameraRayPhase(std::size_t pixel, int ray) {
+    return 1.0 - render::Pcg32::forSample(0x63616d6572617068ULL, pixel, static_cast<std::uint64_t>(ray)).uniform();
 }
 
 // Per-row sums of squared differences and squared values, summed over the rows in order:
@@ -308,9 +316,10 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
         // march at the footprint rays' step, so the step's error is the same whatever m.
         const auto gatherRadiance = [&](int px, int py, int m, float* to) {
             const float weight = 1.0f / static_cast<float>(m * m);
+            const std::size_t pixel = static_cast<std::size_t>(py) * out.width + px;
             for (int sample = 0; sample < m * m; ++sample)
                 ray_march.marchPixelRay(px, py, (sample % m + 0.5) / m, (sample / m + 0.5) / m, per_axis, weight,
-                                        nullptr, nullptr);
+                                        nullptr, nullptr, cameraRayPhase(pixel, sample));
             addGathered(to);
         };
         const float radiance_weight = 1.0f / static_cast<float>(out.radiance_samples);
@@ -327,7 +336,8 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                     double depth_b = 0.0;
                     if (!ray_march.marchPixelRay(px, py, (sample % per_axis + 0.5) / per_axis,
                                                  (sample / per_axis + 0.5) / per_axis, per_axis,
-                                                 shared ? radiance_weight : 0.0f, &depth_b, depth_a.data()))
+                                                 shared ? radiance_weight : 0.0f, &depth_b, depth_a.data(),
+                                                 cameraRayPhase(pixel, sample)))
                         continue;
                     out.depth_b[static_cast<size_t>(sample) * pixels + pixel] = static_cast<float>(depth_b);
                     float* sigmoid_out = out.depth_a.data() + static_cast<size_t>(sample) * tb.n_alpha * pixels + pixel;

@@ -37,7 +37,7 @@ void CameraMarch::beginPixel() {
 }
 
 bool CameraMarch::marchPixelRay(int px, int py, double u, double v, int rays_per_axis, float radiance_weight,
-                                double* depth_b, double* depth_a) {
+                                double* depth_b, double* depth_a, double phase) {
     const render::Ray world_ray = camera_.generateRay(px, py, u, v);
     const IndexRay ray = toIndexSpace(medium_, world_ray.origin, world_ray.direction);
     double t0, t1;
@@ -124,7 +124,7 @@ bool CameraMarch::marchPixelRay(int px, int py, double u, double v, int rays_per
         tau_.swap(tau_next_);
         visible = tb.maxTransmittance(tau_.data()) > kNegligibleTransmittance;
         return visible || depths;
-    });
+    }, phase);
     if (depths) *depth_b = depth_sum;
     return true;
 }

@@ -37,9 +37,10 @@ class CameraMarch {
     //   weights to the pixel's; 0: none (a depth-only ray, several times cheaper);
     // - depth_b and depth_a (both or neither null) get the ray's optical depths, not weighted: b's,
     //   and per alpha threshold. A radiance-only ray stops where no grid point sees further.
+    // - phase: the length of the first step as a share of the step (march()): drawn per ray.
     // False, with nothing added or written, when the ray misses the volume.
     bool marchPixelRay(int px, int py, double u, double v, int rays_per_axis, float radiance_weight,
-                       double* depth_b, double* depth_a);
+                       double* depth_b, double* depth_a, double phase);
     // row (points x columns) += the direct integrals of the rays marched since beginPixel.
     void addDirect(float* row) const;
     // row += for every cell gathered since beginPixel: its weights times field (slots x points x columns).

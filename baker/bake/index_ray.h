@@ -46,11 +46,16 @@ inline bool clipToBox(const IndexRay& ray, const IndexBox& box, double& t0, doub
 
 // Marches from t_start to t_end in steps of `step` world units, calling
 // visit(index_point_mid, step_length, rho, t) at each step's midpoint; visit returns false to stop.
+// The first step is `phase` (in (0, 1]) times `step` long. Rays that start on a voxel face and run
+// along a grid axis (the influence box's faces are whole voxels; six-way lights and views along an
+// axis) would otherwise put every midpoint at the same place within its voxel, and the midpoint
+// rule's error at the trilinear field's kinks would add up instead of cancelling: a phase drawn per
+// ray turns it into noise (TraceSettings::step_voxels).
 template <typename Visit>
 void march(const render::Medium& medium, const IndexRay& ray, double t_start, double t_end, double step,
-           Visit&& visit) {
-    for (double t = t_start; t < t_end; t += step) {
-        const double dt = std::min(step, t_end - t);
+           Visit&& visit, double phase = 1.0) {
+    double dt = std::min(phase * step, t_end - t_start);
+    for (double t = t_start; t < t_end; t += dt, dt = std::min(step, t_end - t)) {
         const glm::dvec3 p = ray.origin + (t + 0.5 * dt) * ray.direction;
         const render::MediumSample s = medium.sampleIndex(p);
         if (!visit(p, static_cast<float>(dt), s.density, s.temperature)) return;

@@ -39,7 +39,7 @@ double predictPhotonNoise(const PhotonNoiseInputs& in, const std::vector<float>&
             std::fill(noisy.begin(), noisy.end(), 0.0f);
             ray_march.beginPixel();
             // The pixel's centre ray, with the bake's step for one ray per pixel.
-            if (!ray_march.marchPixelRay(px, py, 0.5, 0.5, 1, 1.0f, nullptr, nullptr)) continue;
+            if (!ray_march.marchPixelRay(px, py, 0.5, 0.5, 1, 1.0f, nullptr, nullptr, 1.0)) continue;
             ray_march.addDirect(direct.data());
             ray_march.contract(lbar, scattered.data());
             ray_march.contract(noise, noisy.data());

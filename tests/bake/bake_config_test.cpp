@@ -179,7 +179,8 @@ TEST(BakeConfig, QualityPresetsAndTheirOverrides) {
     applyQuality(named_default, "default");
     EXPECT_EQ(configToJson(named_default), configToJson(BakeConfig()))
         << "default is the declared settings, recorded the same";
-    EXPECT_GT(preview.step_voxels, defaults.step_voxels);
+    EXPECT_EQ(preview.step_voxels, defaults.step_voxels);
+    EXPECT_LT(final_.step_voxels, defaults.step_voxels) << "final: the finer step";
     EXPECT_GT(preview.photon_noise_target, defaults.photon_noise_target);
     EXPECT_LT(preview.photon_pilot_share, defaults.photon_pilot_share);
     EXPECT_LT(final_.photon_noise_target, defaults.photon_noise_target);
