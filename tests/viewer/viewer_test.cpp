@@ -213,8 +213,11 @@ TEST_F(Viewer, KeyframeFilePlays) {
     EXPECT_NE(played.output.find("timings: median of 30 frames"), std::string::npos) << played.output;
 }
 
-// Sequence export writes one file per baked frame, each equal to `firelook render` of that frame
-// (both half-float EXR here: within two half roundings).
+// Sequence export writes one file per baked frame, each equal to `firelook render` of that frame:
+// both half-float EXR here (within two half roundings, 2^-10 relative), and the export is the GPU
+// path, which reads U as half floats where the CLI reads the codec's values, so a channel may also
+// differ by 2^-11 sum_k |U_k z_k| (GpuPathEqualsCpuPath's 2^-12 of the peak). With 1e-5 of the peak
+// instead, a bake of 2026-12-06 measured 6.1e-5 (two half ulps at 0.043) against 5.9e-5.
 TEST_F(Viewer, ExportSequenceWritesEveryFrame) {
     const std::string pattern = (dir_ / "out" / "fire_####.exr").string();
     std::filesystem::create_directories(dir_ / "out");
@@ -224,7 +227,8 @@ TEST_F(Viewer, ExportSequenceWritesEveryFrame) {
     for (int frame : {5, 6}) {
         const ImageRGBA exported = firelook::image::readImage(dir_ / "out" / ("fire_000" + std::to_string(frame) + ".exr"));
         const ImageRGBA want = cliRender("cli.exr", frame, kLooks + "/inferno.json");
-        expectClose(exported, want, std::ldexp(1.0, -10), 1e-5, std::ldexp(1.0, -10), "frame " + std::to_string(frame));
+        expectClose(exported, want, std::ldexp(1.0, -10), std::ldexp(1.0, -12), std::ldexp(1.0, -10),
+                    "frame " + std::to_string(frame));
     }
     EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir_ / "out"), std::filesystem::directory_iterator()), 2);
 }
