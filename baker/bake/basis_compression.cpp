@@ -1,10 +1,10 @@
 #include "bake/basis_compression.h"
 
-#include <Eigen/Dense>
 #include <Spectra/MatOp/DenseSymMatProd.h>
 #include <Spectra/SymEigsSolver.h>
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -93,7 +93,8 @@ Eigen::MatrixXd gramOfNonEmptyRows(const Eigen::Map<const RowMatrix>& b) {
             gram.selfadjointView<Eigen::Lower>().rankUpdate(block.topRows(filled).transpose());
             filled = 0;
         };
-        for (Eigen::Index p = start[static_cast<std::size_t>(chunk)]; p < start[static_cast<std::size_t>(chunk) + 1]; ++p) {
+        for (Eigen::Index p = start[static_cast<std::size_t>(chunk)];
+             p < start[static_cast<std::size_t>(chunk) + 1]; ++p) {
             if (!nonEmpty(p)) continue;
             block.row(filled++) = b.row(p).cast<double>();
             if (filled == kBlockRows) flush();

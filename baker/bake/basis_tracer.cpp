@@ -106,7 +106,9 @@ void quadratureCheck(const float* row, const float* fine, int points, int column
 // pixel and ray index, so the image does not depend on the threads, the optical depths not on the
 // photons' seed, and a pixel's m x m radiance rays are what n = m footprint rays would march.
 double cameraRayPhase(std::size_t pixel, int ray) {
-    return 1.0 - render::Pcg32::forSample(0x63616d6572617068ULL, pixel, static_cast<std::uint64_t>(ray)).uniform();
+    // "cameraph" in ASCII: fixed, whatever the photons' seed.
+    constexpr std::uint64_t kPhaseStream = 0x63616d6572617068ULL;
+    return 1.0 - render::Pcg32::forSample(kPhaseStream, pixel, static_cast<std::uint64_t>(ray)).uniform();
 }
 
 // Per-row sums of squared differences and squared values, summed over the rows in order:
@@ -318,8 +320,8 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
             const float weight = 1.0f / static_cast<float>(m * m);
             const std::size_t pixel = static_cast<std::size_t>(py) * out.width + px;
             for (int sample = 0; sample < m * m; ++sample)
-                ray_march.marchPixelRay(px, py, (sample % m + 0.5) / m, (sample / m + 0.5) / m, per_axis, weight,
-                                        nullptr, nullptr, cameraRayPhase(pixel, sample));
+                ray_march.marchPixelRay(px, py, (sample % m + 0.5) / m, (sample / m + 0.5) / m, per_axis,
+                                        weight, nullptr, nullptr, cameraRayPhase(pixel, sample));
             addGathered(to);
         };
         const float radiance_weight = 1.0f / static_cast<float>(out.radiance_samples);

@@ -61,7 +61,7 @@ bool CameraMarch::marchPixelRay(int px, int py, double u, double v, int rays_per
     // The light a step removes from the view, tau_start - tau_end = sigma_t * path, is what its
     // scattering sources are weighted by (albedo times that, stepPathLength).
     const float light_weight = tb.albedo * kInv4Pi * weight;
-    bake::march(medium_, ray, t0, t1, step, [&](const glm::dvec3& p, float dt, float rho, float t) {
+    bake::march(medium_, ray, t0, t1, step, phase, [&](const glm::dvec3& p, float dt, float rho, float t) {
         if (!(rho > 0.0f)) return true;
         if (depths) {
             depth_sum += double(rho) * dt;
@@ -124,7 +124,7 @@ bool CameraMarch::marchPixelRay(int px, int py, double u, double v, int rays_per
         tau_.swap(tau_next_);
         visible = tb.maxTransmittance(tau_.data()) > kNegligibleTransmittance;
         return visible || depths;
-    }, phase);
+    });
     if (depths) *depth_b = depth_sum;
     return true;
 }

@@ -3,10 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
+#include <limits>
+#include <utility>
 
 #include "render/medium.h"
 #include "render/ray.h"
@@ -54,7 +55,8 @@ inline bool emptyBrickAt(const render::Medium& medium, const IndexRay& ray, doub
     const glm::dvec3 cell = glm::floor(g);
     const glm::ivec3 b(cell);
     const glm::ivec3 counts = medium.brickCounts();
-    const bool inside = b.x >= 0 && b.y >= 0 && b.z >= 0 && b.x < counts.x && b.y < counts.y && b.z < counts.z;
+    const bool inside =
+        b.x >= 0 && b.y >= 0 && b.z >= 0 && b.x < counts.x && b.y < counts.y && b.z < counts.z;
     exit = std::numeric_limits<double>::infinity();
     for (int a = 0; a < 3; ++a) {
         const double d = ray.direction[a] / kBrick;
@@ -62,11 +64,16 @@ inline bool emptyBrickAt(const render::Medium& medium, const IndexRay& ray, doub
         // Outside the grid only the side facing it bounds the empty run: the near face of the grid
         // ahead, or nothing (the ray moves away from it).
         double face;
-        if (inside) face = d > 0.0 ? cell[a] + 1.0 : cell[a];
-        else if (d > 0.0 && g[a] < 0.0) face = 0.0;
-        else if (d < 0.0 && g[a] >= counts[a]) face = counts[a];
-        else if (g[a] >= 0.0 && g[a] < counts[a]) continue;  // inside the grid along this axis
-        else continue;                                       // moving away along this axis
+        if (inside)
+            face = d > 0.0 ? cell[a] + 1.0 : cell[a];
+        else if (d > 0.0 && g[a] < 0.0)
+            face = 0.0;
+        else if (d < 0.0 && g[a] >= counts[a])
+            face = counts[a];
+        else if (g[a] >= 0.0 && g[a] < counts[a])
+            continue;  // inside the grid along this axis
+        else
+            continue;  // moving away along this axis
         exit = std::min(exit, t + (face - g[a]) / d);
     }
     return !inside || !(medium.brick(b).max_density > 0.0f);
@@ -84,9 +91,10 @@ inline bool emptyBrickAt(const render::Medium& medium, const IndexRay& ray, doub
 // the bundled sample at 128x128), and each cost a trilinear lookup.
 template <typename Visit>
 void march(const render::Medium& medium, const IndexRay& ray, double t_start, double t_end, double step,
-           Visit&& visit, double phase = 1.0) {
+           double phase, Visit&& visit) {
     double dt = std::min(phase * step, t_end - t_start);
-    double brick_end = -std::numeric_limits<double>::infinity();  // where the brick known to hold density ends
+    double brick_end =
+        -std::numeric_limits<double>::infinity();  // where the brick known to hold density ends
     for (double t = t_start; t < t_end; t += dt, dt = std::min(step, t_end - t)) {
         const double mid = t + 0.5 * dt;
         if (mid >= brick_end) {
@@ -96,8 +104,10 @@ void march(const render::Medium& medium, const IndexRay& ray, double t_start, do
                 // increment takes the last of them.
                 if (dt == step && exit > mid) {
                     const double skipped = std::ceil((exit - mid) / step);
-                    if (std::isfinite(skipped)) t += (skipped - 1.0) * step;
-                    else t = t_end;
+                    if (std::isfinite(skipped))
+                        t += (skipped - 1.0) * step;
+                    else
+                        t = t_end;
                 }
                 continue;
             }
@@ -107,6 +117,14 @@ void march(const render::Medium& medium, const IndexRay& ray, double t_start, do
         const render::MediumSample s = medium.sampleIndex(p);
         if (!visit(p, static_cast<float>(dt), s.density, s.temperature)) return;
     }
+}
+
+// The same with every step whole (phase 1): photon tracks start at sampled points, and the lattices'
+// rays (light depths, fire lights and probes) at fixed ones.
+template <typename Visit>
+void march(const render::Medium& medium, const IndexRay& ray, double t_start, double t_end, double step,
+           Visit&& visit) {
+    march(medium, ray, t_start, t_end, step, 1.0, std::forward<Visit>(visit));
 }
 
 }  // namespace firelook::bake

@@ -113,7 +113,8 @@ TEST(BasisTracer, MidpointErrorShrinksQuadraticallyWithTheStep) {
         double sum2 = 0.0;
         for (int pixel = 0; pixel < 64; ++pixel) {
             const double d = box.pathLength(pixel % 8, pixel / 8);
-            const double expected = rbf.evaluate(0, box.temperature) / kappa * (1.0 - std::exp(-kappa * box.rho * d));
+            const double expected =
+                rbf.evaluate(0, box.temperature) / kappa * (1.0 - std::exp(-kappa * box.rho * d));
             const double e = basisValue(b, box.model, pixel, 0, 0) / expected - 1.0;
             sum2 += e * e;
         }
