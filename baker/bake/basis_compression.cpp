@@ -8,8 +8,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <glm/gtc/packing.hpp>
 #include <stdexcept>
+#include <vector>
 
 #include "basis/source_balance.h"
 #include "common/error.h"
@@ -69,9 +71,13 @@ constexpr int kGramChunks = 2;
 
 Eigen::MatrixXd gramOfNonEmptyRows(const Eigen::Map<const RowMatrix>& b) {
     const Eigen::Index columns = b.cols();
-    const auto nonEmpty = [&](Eigen::Index p) { return b.row(p).cwiseAbs().maxCoeff() != 0.0f; };
+    // Which rows hold anything, found once (a pass over the whole matrix) for the split and the sums.
+    std::vector<std::uint8_t> non_empty(static_cast<std::size_t>(b.rows()));
     Eigen::Index count = 0;
-    for (Eigen::Index p = 0; p < b.rows(); ++p) count += nonEmpty(p);
+    for (Eigen::Index p = 0; p < b.rows(); ++p) {
+        non_empty[static_cast<std::size_t>(p)] = b.row(p).cwiseAbs().maxCoeff() != 0.0f;
+        count += non_empty[static_cast<std::size_t>(p)];
+    }
     // start[c]: the first row of run c, the first where the non-empty rows before it reach
     // count * c / kGramChunks (p runs to b.rows() inclusive, where they reach count).
     std::array<Eigen::Index, kGramChunks + 1> start{};
@@ -79,7 +85,7 @@ Eigen::MatrixXd gramOfNonEmptyRows(const Eigen::Map<const RowMatrix>& b) {
     std::size_t c = 1;
     for (Eigen::Index p = 0, seen = 0; p <= b.rows() && c < kGramChunks; ++p) {
         while (c < kGramChunks && seen >= count * static_cast<Eigen::Index>(c) / kGramChunks) start[c++] = p;
-        if (p < b.rows()) seen += nonEmpty(p);
+        if (p < b.rows()) seen += non_empty[static_cast<std::size_t>(p)];
     }
     std::array<Eigen::MatrixXd, kGramChunks> part;
     tbb::parallel_for(0, kGramChunks, [&](int chunk) {
@@ -95,7 +101,7 @@ Eigen::MatrixXd gramOfNonEmptyRows(const Eigen::Map<const RowMatrix>& b) {
         };
         for (Eigen::Index p = start[static_cast<std::size_t>(chunk)];
              p < start[static_cast<std::size_t>(chunk) + 1]; ++p) {
-            if (!nonEmpty(p)) continue;
+            if (!non_empty[static_cast<std::size_t>(p)]) continue;
             block.row(filled++) = b.row(p).cast<double>();
             if (filled == kBlockRows) flush();
         }

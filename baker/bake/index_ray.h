@@ -6,6 +6,7 @@
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vector_relational.hpp>
 #include <limits>
 #include <utility>
 
@@ -47,36 +48,26 @@ inline bool clipToBox(const IndexRay& ray, const IndexBox& box, double& t0, doub
     return render::intersectBox(ray.origin, ray.direction, box.lo, box.hi, t0, t1);
 }
 
-// Whether the medium is zero throughout the brick (Medium::kBrickSize) that holds index point p,
-// and where the ray leaves that brick (or the bricks' grid, outside it): `exit`, a ray parameter.
+// Whether the medium is zero throughout the brick (Medium::kBrickSize) that holds the ray's point
+// at t, and where the ray leaves that brick: `exit`, a ray parameter. Outside the bricks' grid (zero
+// everywhere) the empty run ends where the ray enters the grid, or never.
 inline bool emptyBrickAt(const render::Medium& medium, const IndexRay& ray, double t, double& exit) {
     constexpr double kBrick = render::Medium::kBrickSize;
     const glm::dvec3 g = (ray.origin + t * ray.direction - medium.brickGridOrigin()) / kBrick;
+    const glm::dvec3 dg = ray.direction / kBrick;
     const glm::dvec3 cell = glm::floor(g);
     const glm::ivec3 b(cell);
     const glm::ivec3 counts = medium.brickCounts();
-    const bool inside =
-        b.x >= 0 && b.y >= 0 && b.z >= 0 && b.x < counts.x && b.y < counts.y && b.z < counts.z;
     exit = std::numeric_limits<double>::infinity();
-    for (int a = 0; a < 3; ++a) {
-        const double d = ray.direction[a] / kBrick;
-        if (d == 0.0) continue;
-        // Outside the grid only the side facing it bounds the empty run: the near face of the grid
-        // ahead, or nothing (the ray moves away from it).
-        double face;
-        if (inside)
-            face = d > 0.0 ? cell[a] + 1.0 : cell[a];
-        else if (d > 0.0 && g[a] < 0.0)
-            face = 0.0;
-        else if (d < 0.0 && g[a] >= counts[a])
-            face = counts[a];
-        else if (g[a] >= 0.0 && g[a] < counts[a])
-            continue;  // inside the grid along this axis
-        else
-            continue;  // moving away along this axis
-        exit = std::min(exit, t + (face - g[a]) / d);
+    if (glm::any(glm::lessThan(b, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(b, counts))) {
+        double t_enter, t_leave;
+        if (render::intersectBox(g, dg, glm::dvec3(0.0), glm::dvec3(counts), t_enter, t_leave))
+            exit = t + t_enter;
+        return true;
     }
-    return !inside || !(medium.brick(b).max_density > 0.0f);
+    for (int a = 0; a < 3; ++a)
+        if (dg[a] != 0.0) exit = std::min(exit, t + ((dg[a] > 0.0 ? cell[a] + 1.0 : cell[a]) - g[a]) / dg[a]);
+    return !(medium.brick(b).max_density > 0.0f);
 }
 
 // Marches from t_start to t_end in steps of `step` world units, calling
@@ -93,8 +84,8 @@ template <typename Visit>
 void march(const render::Medium& medium, const IndexRay& ray, double t_start, double t_end, double step,
            double phase, Visit&& visit) {
     double dt = std::min(phase * step, t_end - t_start);
-    double brick_end =
-        -std::numeric_limits<double>::infinity();  // where the brick known to hold density ends
+    // Where the brick last found to hold density ends: no lookup before then.
+    double brick_end = -std::numeric_limits<double>::infinity();
     for (double t = t_start; t < t_end; t += dt, dt = std::min(step, t_end - t)) {
         const double mid = t + 0.5 * dt;
         if (mid >= brick_end) {
