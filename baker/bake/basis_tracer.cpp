@@ -70,6 +70,14 @@ void validateModel(const BasisModel& model) {
         model.alpha_thresholds.size() > kMaxAxisSamples || model.alpha_thresholds.empty())
         throw Error(ErrorCode::InvalidArgument,
                     "at most 64 samples per parameter axis and 1..64 alpha thresholds");
+    const std::size_t n_tc = model.axes.temperature_threshold.size();
+    if (n_tc * std::max(model.axes.smoke_extinction.size(), model.axes.flame_extinction.size()) >
+        kMaxAxisFactors)
+        throw Error(ErrorCode::InvalidArgument,
+                    "at most " + std::to_string(kMaxAxisFactors) +
+                        " temperature thresholds times smoke (or flame) extinctions; the model has " +
+                        std::to_string(n_tc) + " x " + std::to_string(model.axes.smoke_extinction.size()) +
+                        " (" + std::to_string(model.axes.flame_extinction.size()) + ")");
 }
 
 // Every this-many pixels along each axis, one checks the radiance rays' quadrature against all the

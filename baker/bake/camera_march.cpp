@@ -82,7 +82,7 @@ bool CameraMarch::marchPixelRay(int px, int py, double u, double v, int rays_per
 #pragma omp simd
             for (int g = 0; g < G; ++g) {
                 path[g] = stepPathLength(tau[g], tau_next[g], sigma_t[g], dt);
-                removed[g] = sigma_t[g] * path[g];
+                removed[g] = stepRemoved(tau[g], tau_next[g], sigma_t[g], dt);
             }
         }
         int bin_first, bin_last;
