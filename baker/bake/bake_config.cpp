@@ -109,10 +109,12 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         }
         if (j.contains("trace")) {
             const json& t = j["trace"];
-            checkKeys(t, {"cell_voxels", "max_cells_per_axis", "max_cell_optical_depth", "light_points_per_axis", "photons_primary",
-                          "photons_per_order", "photon_noise_target", "max_photon_scale", "photon_pilot_share", "min_order_photon_share", "max_orders", "order_tolerance",
-                          "step_voxels", "footprint_step", "footprint_samples_per_axis",
-                          "radiance_samples_per_axis"},
+            checkKeys(t,
+                      {"cell_voxels", "max_cells_per_axis", "max_cell_optical_depth", "light_points_per_axis",
+                       "photons_primary", "photons_per_order", "photon_noise_target", "max_photon_scale",
+                       "photon_pilot_share", "min_order_photon_share", "max_orders", "order_tolerance",
+                       "step_voxels", "footprint_step", "footprint_samples_per_axis",
+                       "radiance_samples_per_axis", "radiance_quadrature_target"},
                       "trace");
             c.trace.cell_voxels = t.value("cell_voxels", c.trace.cell_voxels);
             c.trace.max_cells_per_axis = t.value("max_cells_per_axis", c.trace.max_cells_per_axis);
@@ -130,6 +132,8 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             c.trace.step_voxels = t.value("step_voxels", c.trace.step_voxels);
             c.trace.footprint_samples_per_axis = t.value("footprint_samples_per_axis", c.trace.footprint_samples_per_axis);
             c.trace.radiance_samples_per_axis = t.value("radiance_samples_per_axis", c.trace.radiance_samples_per_axis);
+            c.trace.radiance_quadrature_target =
+                t.value("radiance_quadrature_target", c.trace.radiance_quadrature_target);
         }
         if (j.contains("compression")) {
             const json& t = j["compression"];
@@ -155,18 +159,22 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             throw Error(ErrorCode::InvalidArgument, "albedo must be in [0, 1]");
         if (j.contains("memory_budget")) c.memory_budget_bytes = parseByteSize(j["memory_budget"].get<std::string>());
         if (c.trace.step_voxels <= 0.0 || c.trace.cell_voxels < 1 || c.trace.photons_primary < 1 ||
-            c.trace.max_cells_per_axis < 1 || !(c.trace.max_cell_optical_depth > 0.0) || c.trace.light_points_per_axis < 2 || !(c.trace.footprint_step >= 0.0) ||
+            c.trace.max_cells_per_axis < 1 || !(c.trace.max_cell_optical_depth > 0.0) ||
+            c.trace.light_points_per_axis < 2 || !(c.trace.footprint_step >= 0.0) ||
             c.trace.photons_per_order < 1 || c.trace.footprint_samples_per_axis < 0 ||
             c.trace.footprint_samples_per_axis > 8 || c.trace.radiance_samples_per_axis < 0 ||
-            c.trace.radiance_samples_per_axis > 8 || !(c.trace.photon_noise_target >= 0.0) ||
-            c.trace.max_photon_scale < 1 || c.trace.max_photon_scale > 64 ||
+            c.trace.radiance_samples_per_axis > 8 || !(c.trace.radiance_quadrature_target >= 0.0) ||
+            !(c.trace.photon_noise_target >= 0.0) || c.trace.max_photon_scale < 1 ||
+            c.trace.max_photon_scale > 64 ||
             !(c.trace.photon_pilot_share > 0.0 && c.trace.photon_pilot_share <= 1.0) ||
             !(c.trace.min_order_photon_share > 0.0 && c.trace.min_order_photon_share <= 1.0))
-            throw Error(ErrorCode::InvalidArgument,
-                        "trace settings must be positive (footprint_samples_per_axis 0..8, 0 = from the image size; "
-                        "radiance_samples_per_axis 0..8, 0 = every footprint ray; "
-                        "photon_noise_target >= 0, 0 = the photons as given; max_photon_scale 1..64; "
-                        "photon_pilot_share and min_order_photon_share in (0, 1])");
+            throw Error(
+                ErrorCode::InvalidArgument,
+                "trace settings must be positive (footprint_samples_per_axis 0..8, 0 = from the image size; "
+                "radiance_samples_per_axis 0..8, 0 = from radiance_quadrature_target (>= 0, 0 = every "
+                "footprint ray); "
+                "photon_noise_target >= 0, 0 = the photons as given; max_photon_scale 1..64; "
+                "photon_pilot_share and min_order_photon_share in (0, 1])");
     } catch (const Error& e) {
         throw Error(e.code(), file.string() + ": " + e.what());
     } catch (const std::exception& e) {  // nlohmann-json's: the file is not the JSON a config is
@@ -222,6 +230,7 @@ TraceSettings qualityTrace(const std::string& quality) {
     }
     if (quality == "final") {
         t.step_voxels = 0.125;
+        t.radiance_quadrature_target = 0.0;  // every footprint ray carries radiance
         t.photon_noise_target = 0.005;
         t.max_photon_scale = 8;
         t.order_tolerance = 0.001;
@@ -295,10 +304,13 @@ std::string configToJson(const BakeConfig& c) {
                   {"photon_noise_target", c.trace.photon_noise_target},
                   {"max_photon_scale", c.trace.max_photon_scale},
                   {"photon_pilot_share", c.trace.photon_pilot_share},
-                  {"min_order_photon_share", c.trace.min_order_photon_share}, {"max_orders", c.trace.max_orders},
-                  {"order_tolerance", c.trace.order_tolerance},   {"step_voxels", c.trace.step_voxels},
+                  {"min_order_photon_share", c.trace.min_order_photon_share},
+                  {"max_orders", c.trace.max_orders},
+                  {"order_tolerance", c.trace.order_tolerance},
+                  {"step_voxels", c.trace.step_voxels},
                   {"footprint_samples_per_axis", c.trace.footprint_samples_per_axis},
-                  {"radiance_samples_per_axis", c.trace.radiance_samples_per_axis}};
+                  {"radiance_samples_per_axis", c.trace.radiance_samples_per_axis},
+                  {"radiance_quadrature_target", c.trace.radiance_quadrature_target}};
     j["compression"] = {{"target_relative_error", c.compression.target_relative_error},
                         {"max_rank", c.compression.max_rank},
                         {"alpha_error", c.storage.alpha_error},

@@ -72,9 +72,10 @@ void applyConfigFile(BakeConfig& config, const std::filesystem::path& file);
 //   "preview": fewer seconds, for looks being designed: 2x2 of the footprint rays carry radiance,
 //              photon noise up to 2% with chains of a quarter of the photons, orders until 0.5%
 //              is left;
-//   "default": TraceSettings as declared (issue 27's accuracy bars, scripts/bench/accuracy.sh);
-//   "final":   a 0.125-voxel step, photon noise up to 0.5% (up to 8 times the photons), orders until
-//              0.1% is left.
+//   "default": TraceSettings as declared (issue 27's accuracy bars, scripts/bench/accuracy.sh):
+//              2x2 radiance rays in the frames whose quadrature error they keep within 0.15%;
+//   "final":   a 0.125-voxel step, every footprint ray carrying radiance, photon noise up to 0.5%
+//              (up to 8 times the photons), orders until 0.1% is left.
 // Anything else is an InvalidArgument Error naming the three.
 TraceSettings qualityTrace(const std::string& quality);
 // config.quality = quality and config.trace = qualityTrace(quality).

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
@@ -143,25 +144,28 @@ namespace {
 // A frame's entry in META's "errors" list, and the reverse (for a frame resumed from an earlier
 // run): the keys live here only.
 nlohmann::ordered_json errorsEntry(const FrameBakeReport& fr) {
-    nlohmann::ordered_json entry = {{"frame", fr.frame},
-            {"rank", fr.rank},
-            {"svd_truncation_relative_error", fr.truncation_error},
-            {"storage_relative_error", fr.quantisation_error},
-            {"pixels_with_footprint_rays", fr.detailed_pixels},
-            {"alpha_storage_error_bound", fr.alpha_storage_bound},
-            {"bytes", {{"u", fr.u_bytes}, {"svt", fr.svt_bytes}, {"depths", fr.depth_bytes}}},
-            {"scattering_orders", fr.scattering_orders},
-            {"cell_edge_voxels", fr.cell_edge_voxels},
-            {"light_spacing_voxels", fr.light_spacing_voxels},
-            {"cell_optical_depth", fr.cell_optical_depth},
-            {"last_order_fraction", fr.last_order_fraction},
-            {"scattering_tail_fraction", fr.tail_fraction},
-            {"photon_chains", fr.photon_chains},
-            {"photon_multiple", fr.photon_multiple},
-            {"order_photon_share", fr.order_photon_share},
-            {"predicted_photon_noise", fr.predicted_photon_noise},
-            {"radiance_quadrature_error", fr.radiance_quadrature_error},
-            {"predicted_look_error", fr.predictedLookError()}};
+    nlohmann::ordered_json entry = {
+        {"frame", fr.frame},
+        {"rank", fr.rank},
+        {"svd_truncation_relative_error", fr.truncation_error},
+        {"storage_relative_error", fr.quantisation_error},
+        {"pixels_with_footprint_rays", fr.detailed_pixels},
+        {"alpha_storage_error_bound", fr.alpha_storage_bound},
+        {"bytes", {{"u", fr.u_bytes}, {"svt", fr.svt_bytes}, {"depths", fr.depth_bytes}}},
+        {"scattering_orders", fr.scattering_orders},
+        {"cell_edge_voxels", fr.cell_edge_voxels},
+        {"light_spacing_voxels", fr.light_spacing_voxels},
+        {"cell_optical_depth", fr.cell_optical_depth},
+        {"last_order_fraction", fr.last_order_fraction},
+        {"scattering_tail_fraction", fr.tail_fraction},
+        {"photon_chains", fr.photon_chains},
+        {"photon_multiple", fr.photon_multiple},
+        {"order_photon_share", fr.order_photon_share},
+        {"predicted_photon_noise", fr.predicted_photon_noise},
+        {"radiance_quadrature_error", fr.radiance_quadrature_error},
+        {"radiance_rays_per_axis", fr.radiance_rays_per_axis},
+        {"footprint_rays_per_axis", fr.footprint_rays_per_axis},
+        {"predicted_look_error", fr.predictedLookError()}};
     if (fr.has_target) entry["storage_target"] = storageTargetEntry(fr);
     return entry;
 }
@@ -188,6 +192,8 @@ FrameBakeReport reportFromMetadata(int frame, const FrameMetadata& kept) {
     fr.photon_chains = e.value("photon_chains", 0);                // and before 2026-12-06 these
     fr.predicted_photon_noise = e.value("predicted_photon_noise", 0.0);
     fr.radiance_quadrature_error = e.value("radiance_quadrature_error", 0.0);  // before 2026-12-06's radiance rays
+    fr.radiance_rays_per_axis = e.value("radiance_rays_per_axis", 0);  // before 2026-12-07: not recorded
+    fr.footprint_rays_per_axis = e.value("footprint_rays_per_axis", 0);
     // Before the pilot chains (2026-12-06) every chain held half the settings' photons.
     fr.photon_multiple = e.value("photon_multiple", 0.5 * fr.photon_chains);
     fr.order_photon_share = e.value("order_photon_share", 1.0);  // before 2026-12-06 every order had its photons
@@ -391,6 +397,8 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         fr.order_photon_share = traced.order_photon_share;
         fr.predicted_photon_noise = traced.predicted_photon_noise;
         fr.radiance_quadrature_error = traced.radiance_quadrature_error;
+        fr.radiance_rays_per_axis = static_cast<int>(std::lround(std::sqrt(traced.radiance_samples)));
+        fr.footprint_rays_per_axis = static_cast<int>(std::lround(std::sqrt(traced.footprint_samples)));
         fr.setup_seconds = traced.seconds_setup;
         fr.light_seconds = traced.seconds_light;
         fr.photon_seconds = traced.seconds_photons;

@@ -43,6 +43,9 @@ struct FrameBakeReport {
     // The radiance rays' quadrature error as a look sees it, measured on every 16th pixel
     // (FrameBasis::radiance_quadrature_error; 0 when every footprint ray carries radiance).
     double radiance_quadrature_error = 0.0;
+    // The m of the m x m radiance rays a pixel the frame was traced with, and the n of its footprint
+    // rays (TraceSettings::radiance_quadrature_target chooses m per frame).
+    int radiance_rays_per_axis = 0, footprint_rays_per_axis = 0;
     // What the bake predicts for a look's relative RMSE: the SVD and storage error, the photon noise
     // (its worst column's) and the quadrature error together in quadrature. A guide, not a bound:
     // the blend between grid points and the march step's bias are not in it (scripts/bench/

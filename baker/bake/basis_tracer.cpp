@@ -119,6 +119,25 @@ double cameraRayPhase(std::size_t pixel, int ray) {
     return 1.0 - render::Pcg32::forSample(kPhaseStream, pixel, static_cast<std::uint64_t>(ray)).uniform();
 }
 
+// to += the direct light and the gathered cells' weights contracted of the rays marched since
+// beginPixel: once per pixel.
+void addGathered(const CameraMarch& ray_march, const std::vector<float>& lbar_sum, float* to) {
+    ray_march.addDirect(to);
+    if (!lbar_sum.empty()) ray_march.contract(lbar_sum, to);
+}
+
+// Adds pixel (px, py)'s radiance from m x m radiance-only rays to `to` (after beginPixel). They
+// march at the n x n footprint rays' step, so the step's error is the same whatever m.
+void gatherRadianceRays(CameraMarch& ray_march, const std::vector<float>& lbar_sum, int width, int per_axis,
+                        int px, int py, int m, float* to) {
+    const float weight = 1.0f / static_cast<float>(m * m);
+    const std::size_t pixel = static_cast<std::size_t>(py) * width + px;
+    for (int sample = 0; sample < m * m; ++sample)
+        ray_march.marchPixelRay(px, py, (sample % m + 0.5) / m, (sample / m + 0.5) / m, per_axis, weight,
+                                nullptr, nullptr, cameraRayPhase(pixel, sample));
+    addGathered(ray_march, lbar_sum, to);
+}
+
 // Per-row sums of squared differences and squared values, summed over the rows in order:
 // sqrt(sum diff^2 / sum value^2).
 double relativeFrobeniusError(const std::vector<double>& diff2, const std::vector<double>& value2) {
@@ -141,6 +160,14 @@ int footprintSamplesPerAxis(const TraceSettings& settings, int width, int height
 int radianceSamplesPerAxis(const TraceSettings& settings, int footprint_per_axis) {
     const int m = settings.radiance_samples_per_axis > 0 ? settings.radiance_samples_per_axis : footprint_per_axis;
     return std::min(m, footprint_per_axis);
+}
+
+std::vector<int> radianceCandidates(const TraceSettings& settings, int footprint_per_axis) {
+    std::vector<int> candidates;
+    if (settings.radiance_samples_per_axis > 0 || !(settings.radiance_quadrature_target > 0.0))
+        return candidates;
+    for (int m = 2; 2 * m * m <= footprint_per_axis * footprint_per_axis; ++m) candidates.push_back(m);
+    return candidates;
 }
 
 TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& camera, const BasisModel& model,
@@ -222,8 +249,8 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     out.matrix.assign(pixels * out.columns, 0.0f);
     const int per_axis = footprintSamplesPerAxis(settings, camera.width(), camera.height());
     out.footprint_samples = per_axis * per_axis;
-    const int radiance_per_axis = radianceSamplesPerAxis(settings, per_axis);
-    out.radiance_samples = radiance_per_axis * radiance_per_axis;
+    out.radiance_samples =
+        radianceSamplesPerAxis(settings, per_axis) * radianceSamplesPerAxis(settings, per_axis);
     out.depth_b.assign(pixels * out.footprint_samples, 0.0f);
     out.depth_a.assign(pixels * out.footprint_samples * tb.n_alpha, 0.0f);
     if (medium.empty()) return out;
@@ -302,11 +329,50 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     // Camera rays: exact march of the fine medium, with a step from the pixel footprint.
     // With fewer radiance rays than footprint rays, every kQuadratureCheckStride-th pixel of every
     // kQuadratureCheckStride-th row is also gathered with all n x n rays: its squared differences,
-    // kept per row and summed in row order, give the quadrature's error (quadratureCheck).
-    const bool shared = radiance_per_axis == per_axis;
+    // kept per row and summed in row order, give the quadrature's error (quadratureCheck). Where the
+    // trace chooses m, that check runs first, for every candidate m, and the camera pass takes the
+    // smallest m within radiance_quadrature_target.
     const std::size_t GC = out.columns;
+    const std::vector<int> candidates = radianceCandidates(settings, per_axis);
+    int radiance_per_axis = radianceSamplesPerAxis(settings, per_axis);
+    const bool measured_first = !candidates.empty();
+    if (measured_first) {
+        std::vector<std::vector<double>> diff2(candidates.size(), std::vector<double>(out.height, 0.0)),
+            value2(candidates.size(), std::vector<double>(out.height, 0.0));
+        tbb::parallel_for(0, out.height, [&](int py) {
+            if (py % kQuadratureCheckStride != kQuadratureCheckStride / 2 || gate.stopped()) return;
+            CameraMarch ray_march(medium, tb, cells, light_depths, camera, min_step, settings.footprint_step,
+                                  !lbar_sum.empty());
+            std::vector<float> fine(GC), coarse(GC);
+            for (int px = kQuadratureCheckStride / 2; px < out.width; px += kQuadratureCheckStride) {
+                fine.assign(GC, 0.0f);
+                ray_march.beginPixel();
+                gatherRadianceRays(ray_march, lbar_sum, out.width, per_axis, px, py, per_axis, fine.data());
+                for (std::size_t k = 0; k < candidates.size(); ++k) {
+                    coarse.assign(GC, 0.0f);
+                    ray_march.beginPixel();
+                    gatherRadianceRays(ray_march, lbar_sum, out.width, per_axis, px, py, candidates[k],
+                                       coarse.data());
+                    quadratureCheck(coarse.data(), fine.data(), G, C, tb.bins, diff2[k][py], value2[k][py]);
+                }
+            }
+        });
+        gate.throwIfStopped();
+        radiance_per_axis = per_axis;
+        for (std::size_t k = 0; k < candidates.size(); ++k) {
+            const double error = relativeFrobeniusError(diff2[k], value2[k]);
+            out.radiance_candidate_errors.push_back(error);
+            if (radiance_per_axis == per_axis && error <= settings.radiance_quadrature_target) {
+                radiance_per_axis = candidates[k];
+                out.radiance_quadrature_error = error;
+            }
+        }
+    }
+    out.radiance_samples = radiance_per_axis * radiance_per_axis;
+    const bool shared = radiance_per_axis == per_axis;
+    const bool check = !shared && !measured_first;
     std::vector<double> check_diff2, check_value2;
-    if (!shared) {
+    if (check) {
         check_diff2.assign(out.height, 0.0);
         check_value2.assign(out.height, 0.0);
     }
@@ -316,22 +382,6 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                               !lbar_sum.empty());
         std::vector<double> depth_a(tb.n_alpha);
         std::vector<float> fine;  // a check pixel's row from all n x n rays
-        // to += the direct light and the gathered cells' weights contracted of the rays marched
-        // since beginPixel: once per pixel.
-        const auto addGathered = [&](float* to) {
-            ray_march.addDirect(to);
-            if (!lbar_sum.empty()) ray_march.contract(lbar_sum, to);
-        };
-        // Adds the pixel's radiance from m x m radiance-only rays to `to` (after beginPixel). They
-        // march at the footprint rays' step, so the step's error is the same whatever m.
-        const auto gatherRadiance = [&](int px, int py, int m, float* to) {
-            const float weight = 1.0f / static_cast<float>(m * m);
-            const std::size_t pixel = static_cast<std::size_t>(py) * out.width + px;
-            for (int sample = 0; sample < m * m; ++sample)
-                ray_march.marchPixelRay(px, py, (sample % m + 0.5) / m, (sample / m + 0.5) / m, per_axis,
-                                        weight, nullptr, nullptr, cameraRayPhase(pixel, sample));
-            addGathered(to);
-        };
         const float radiance_weight = 1.0f / static_cast<float>(out.radiance_samples);
         for (int py = rows.begin(); py != rows.end(); ++py) {
             if (gate.stopped()) return;
@@ -354,23 +404,23 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                     for (int a = 0; a < tb.n_alpha; ++a) sigmoid_out[a * pixels] = static_cast<float>(depth_a[a]);
                 }
                 if (shared) {
-                    addGathered(row);
+                    addGathered(ray_march, lbar_sum, row);
                     continue;
                 }
-                gatherRadiance(px, py, radiance_per_axis, row);
-                if (px % kQuadratureCheckStride != kQuadratureCheckStride / 2 ||
+                gatherRadianceRays(ray_march, lbar_sum, out.width, per_axis, px, py, radiance_per_axis, row);
+                if (!check || px % kQuadratureCheckStride != kQuadratureCheckStride / 2 ||
                     py % kQuadratureCheckStride != kQuadratureCheckStride / 2)
                     continue;
                 fine.assign(GC, 0.0f);
                 ray_march.beginPixel();
-                gatherRadiance(px, py, per_axis, fine.data());
+                gatherRadianceRays(ray_march, lbar_sum, out.width, per_axis, px, py, per_axis, fine.data());
                 quadratureCheck(row, fine.data(), G, C, tb.bins, check_diff2[py], check_value2[py]);
             }
             gate.report(0.6 + 0.4 * (rows_done.fetch_add(1) + 1) / out.height);
         }
     });
     gate.throwIfStopped();
-    if (!shared) out.radiance_quadrature_error = relativeFrobeniusError(check_diff2, check_value2);
+    if (check) out.radiance_quadrature_error = relativeFrobeniusError(check_diff2, check_value2);
     out.seconds_camera = lapSeconds(clock);
     return out;
 }

@@ -151,13 +151,26 @@ struct TraceSettings {
     int footprint_samples_per_axis = 0;
     // Of those, how many (m x m, cell-centred in the same footprint) gather the pixel's radiance;
     // the other rays march for alpha's optical depths only, several times cheaper. 0 (the default):
-    // all of them (m = n); m is at most n. The radiance is linear in what each ray carries where
-    // alpha is not, but fewer rays still cost accuracy: with m = ceil(n / 2) (2 of 4 at 128x128)
+    // m from radiance_quadrature_target below; m > 0: that m (at most n). The radiance is linear in
+    // what each ray carries where alpha is not, but fewer rays still cost accuracy where a frame has
+    // detail below the pixel: with m = ceil(n / 2) (2 of 4 at 128x128) for every frame,
     // scripts/bench/accuracy.sh measured the emission regime's worst look at 1.64% against 0.83%
     // (over issue 27's 1.5% bar; median 0.43% against 0.17%), the corners' median 0.42% against
-    // 0.20%, the other regimes within 0.05 points, for camera rays 2.6 times as fast. So the
-    // preview quality takes m = 2 (bake_config.h) and the default keeps every ray.
+    // 0.20%, the other regimes within 0.05 points, for camera rays 2.6 times as fast. The preview
+    // quality takes m = 2 (bake_config.h).
     int radiance_samples_per_axis = 0;
+    // With radiance_samples_per_axis 0, the trace measures each frame's radiance quadrature error
+    // before its camera pass, on every 16th pixel (the check of FrameBasis::radiance_quadrature_error),
+    // for every m that marches at most half the footprint's rays (2 m^2 <= n^2: with fewer rays
+    // saved, the depth-only rays that still march make it no faster; 3 of 4 was measured at the
+    // same seconds as 4 of 4), and takes the smallest m whose error is at most this; else m = n. 0:
+    // m = n always. 0.0015 because a look's error from it was about the measured error in the
+    // median and 3.5 times it in the worst look (the emission regime above: m = 2 on frames 3, 7
+    // and 11, whose errors were 0.13-0.40%), so 0.15% keeps the worst look within 0.5 points of the
+    // every-ray bake. Measured on frame 12 of the bundled sample: 0.13% with 2 of 4 at 128x128 and
+    // 0.034% with 2 of 3 at 256x256 (camera rays 10.5 s against 19.0 s); frame 3 at 128x128 0.40%
+    // (4 of 4 kept).
+    double radiance_quadrature_target = 0.0015;
     // Bytes the trace may use for what it can size (the scattered-light cells): 0 = no limit.
     // planFrameTrace() coarsens the cells until they fit.
     std::uint64_t memory_budget_bytes = 0;
@@ -189,8 +202,11 @@ struct TracePlan {
 // at 64x64, so 3 from 256 pixels on the short side, 4 from 128, 5 below.
 int footprintSamplesPerAxis(const TraceSettings& settings, int width, int height);
 // The m of a pixel's m x m radiance rays (TraceSettings::radiance_samples_per_axis), for n x n
-// footprint rays.
+// footprint rays: the given m, or n where the trace chooses (the most it can choose).
 int radianceSamplesPerAxis(const TraceSettings& settings, int footprint_per_axis);
+// The m the trace measures before its camera pass and may choose instead of n, smallest first (empty
+// where m is given or radiance_quadrature_target is 0).
+std::vector<int> radianceCandidates(const TraceSettings& settings, int footprint_per_axis);
 
 TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& camera, const BasisModel& model,
                          const TraceSettings& settings);
@@ -206,6 +222,9 @@ struct FrameBasis {
     // against all the footprint rays', on every 16th pixel, as a look sees it: per grid point, the
     // emission bins summed and each light's column (0 when they are the same rays).
     double radiance_quadrature_error = 0.0;
+    // Where the trace chose m (TraceSettings::radiance_quadrature_target): the error each
+    // candidate m had, in radianceCandidates' order (empty otherwise).
+    std::vector<double> radiance_candidate_errors;
     std::vector<float> depth_b;   // O_b: footprint sample x pixel
     std::vector<float> depth_a;   // O_a: footprint sample x alpha threshold x pixel
     int scattering_orders = 0;          // orders traced

@@ -1,8 +1,9 @@
 // One scattering order of the basis tracer: photons start at points drawn from one kind of source,
 // fly straight in a uniform direction, and deposit into each cell they cross the integral of
-// sigma_s * tau over their track inside it (exact per step: albedo * (tau_start - tau_end)),
-// for every grid point at once. Divided by the cell's sigma_s mass (ScatterCells), that is the
-// sigma_s-weighted mean radiance Lbar the order's source produces.
+// sigma_s * tau over their track inside it (exact per step: albedo * (tau_start - tau_end), which
+// summed over the cell's steps is albedo * (tau at entry - tau at exit)), for every grid point at once.
+// Divided by the cell's sigma_s mass (ScatterCells), that is the sigma_s-weighted mean radiance Lbar the
+// order's source produces.
 #pragma once
 
 #include <atomic>

@@ -31,38 +31,41 @@ namespace {
 void writeReportJson(const std::string& path, const std::string& sequence, const bake::BakeReport& report) {
     nlohmann::ordered_json frames = nlohmann::ordered_json::array();
     for (const bake::FrameBakeReport& f : report.frames)
-        frames.push_back({{"frame", f.frame},
-                          {"resumed", f.resumed},
-                          {"rank", f.rank},
-                          {"svd_truncation_relative_error", f.truncation_error},
-                          {"storage_relative_error", f.quantisation_error},
-                          {"pixels_with_footprint_rays", f.detailed_pixels},
-                          {"alpha_storage_error_bound", f.alpha_storage_bound},
-                          {"bytes", f.u_bytes + f.svt_bytes + f.depth_bytes},
-                          {"section_bytes", {{"u", f.u_bytes}, {"svt", f.svt_bytes}, {"depths", f.depth_bytes}}},
-                          {"scattering_orders", f.scattering_orders},
-                          {"photon_chains", f.photon_chains},
-                          {"photon_multiple", f.photon_multiple},
-                          {"order_photon_share", f.order_photon_share},
-                          {"predicted_photon_noise", f.predicted_photon_noise},
-                          {"radiance_quadrature_error", f.radiance_quadrature_error},
-                          {"predicted_look_error", f.predictedLookError()},
-                          {"trace_seconds", f.trace_seconds},
-                          {"trace_stage_seconds",
-                           {{"cells_and_sources", f.setup_seconds},
-                            {"light_depths", f.light_seconds},
-                            {"photon_passes", f.photon_seconds},
-                            {"camera_rays", f.camera_seconds}}},
-                          {"svd_seconds", f.compress_seconds},
-                          {"fire_lights", {{"bytes", f.fire_light_bytes}, {"seconds", f.fire_light_seconds}}},
-                          {"fire_probes", {{"bytes", f.fire_probe_bytes}, {"seconds", f.fire_probe_seconds}}},
-                          {"active_voxels", f.active_voxels},
-                          {"cell_edge_voxels", f.cell_edge_voxels},
-                          {"light_spacing_voxels", f.light_spacing_voxels},
-                          {"cell_optical_depth", f.cell_optical_depth},
-                          {"estimated_peak_mib", f.estimated_peak_bytes / 1048576.0},
-                          {"columns_traced", f.columns_traced},
-                          {"predicted_relative_error", std::hypot(f.truncation_error, f.quantisation_error)}});
+        frames.push_back(
+            {{"frame", f.frame},
+             {"resumed", f.resumed},
+             {"rank", f.rank},
+             {"svd_truncation_relative_error", f.truncation_error},
+             {"storage_relative_error", f.quantisation_error},
+             {"pixels_with_footprint_rays", f.detailed_pixels},
+             {"alpha_storage_error_bound", f.alpha_storage_bound},
+             {"bytes", f.u_bytes + f.svt_bytes + f.depth_bytes},
+             {"section_bytes", {{"u", f.u_bytes}, {"svt", f.svt_bytes}, {"depths", f.depth_bytes}}},
+             {"scattering_orders", f.scattering_orders},
+             {"photon_chains", f.photon_chains},
+             {"photon_multiple", f.photon_multiple},
+             {"order_photon_share", f.order_photon_share},
+             {"predicted_photon_noise", f.predicted_photon_noise},
+             {"radiance_quadrature_error", f.radiance_quadrature_error},
+             {"radiance_rays_per_axis", f.radiance_rays_per_axis},
+             {"footprint_rays_per_axis", f.footprint_rays_per_axis},
+             {"predicted_look_error", f.predictedLookError()},
+             {"trace_seconds", f.trace_seconds},
+             {"trace_stage_seconds",
+              {{"cells_and_sources", f.setup_seconds},
+               {"light_depths", f.light_seconds},
+               {"photon_passes", f.photon_seconds},
+               {"camera_rays", f.camera_seconds}}},
+             {"svd_seconds", f.compress_seconds},
+             {"fire_lights", {{"bytes", f.fire_light_bytes}, {"seconds", f.fire_light_seconds}}},
+             {"fire_probes", {{"bytes", f.fire_probe_bytes}, {"seconds", f.fire_probe_seconds}}},
+             {"active_voxels", f.active_voxels},
+             {"cell_edge_voxels", f.cell_edge_voxels},
+             {"light_spacing_voxels", f.light_spacing_voxels},
+             {"cell_optical_depth", f.cell_optical_depth},
+             {"estimated_peak_mib", f.estimated_peak_bytes / 1048576.0},
+             {"columns_traced", f.columns_traced},
+             {"predicted_relative_error", std::hypot(f.truncation_error, f.quantisation_error)}});
     for (size_t i = 0; i < report.frames.size(); ++i)
         if (report.frames[i].has_target) frames[i]["storage_target"] = bake::storageTargetEntry(report.frames[i]);
     // The sequence's path as typed is provenance of this run, not of the package, whose bytes do
@@ -118,12 +121,21 @@ std::string describeTraceChoice(const bake::BakeConfig& config) {
                       100.0 * t.photon_noise_target, t.photon_pilot_share * 0.5, t.max_photon_scale);
     else
         std::snprintf(photons, sizeof photons, "the photons as given (no noise target)");
-    char line[512];
+    const std::vector<int> candidates = bake::radianceCandidates(t, n);
+    char radiance[160];
+    if (candidates.empty())
+        std::snprintf(radiance, sizeof radiance, "%dx%d of them", m, m);
+    else
+        std::snprintf(radiance, sizeof radiance,
+                      "%dx%d of them, or as few as %dx%d where their quadrature error is within %g%% (chosen "
+                      "per frame)",
+                      m, m, candidates.front(), candidates.front(), 100.0 * t.radiance_quadrature_target);
+    char line[640];
     std::snprintf(line, sizeof line,
-                  "trace (%s quality): %dx%d footprint rays a pixel for alpha, %dx%d of them for radiance; march "
+                  "trace (%s quality): %dx%d footprint rays a pixel for alpha, %s for radiance; march "
                   "step %g voxel; %s; scattering orders until %g%% is left",
-                  config.quality.empty() ? "default" : config.quality.c_str(), n, n, m, m, t.step_voxels, photons,
-                  100.0 * t.order_tolerance);
+                  config.quality.empty() ? "default" : config.quality.c_str(), n, n, radiance, t.step_voxels,
+                  photons, 100.0 * t.order_tolerance);
     return line;
 }
 
@@ -243,18 +255,26 @@ void registerBakeCommand(CLI::App& app) {
         const bool sized = config.target.package_bytes > 0;
         // "photons": the multiple of the settings' photons the noise target asked for; "noise": the
         // photon noise it predicts for the worst column's image (relative RMSE); "quad": the radiance
-        // rays' quadrature error, measured; "look err": all of a look's predicted error together.
-        std::printf("%6s %5s %10s %10s %10s %9s %9s %9s %9s %7s %8s %8s %7s %9s %9s %9s%s\n", "frame", "rank",
-                    "svd err", "store err", "pred err", "alpha err", "KiB", "U KiB", "depth KiB", "orders", "photons",
-                    "noise %", "quad %", "look err %", "trace s", "svd s", sized ? "      q" : "");
+        // rays' quadrature error, measured, and "rays" the radiance rays of the footprint's (m/n
+        // an axis); "look err": all of a look's predicted error together.
+        std::printf("%6s %5s %10s %10s %10s %9s %9s %9s %9s %7s %8s %8s %7s %5s %9s %9s %9s%s\n", "frame",
+                    "rank", "svd err", "store err", "pred err", "alpha err", "KiB", "U KiB", "depth KiB",
+                    "orders", "photons", "noise %", "quad %", "rays", "look err %", "trace s", "svd s",
+                    sized ? "      q" : "");
         for (const bake::FrameBakeReport& f : report.frames) {
-            std::printf("%6d %5d %10.2e %10.2e %10.2e %9.1e %9.1f %9.1f %9.1f %7d %7.2fx %8.2f %7.2f %10.2f %9.1f %9.1f",
-                        f.frame, f.rank, f.truncation_error, f.quantisation_error,
-                        std::hypot(f.truncation_error, f.quantisation_error), f.alpha_storage_bound,
-                        (f.u_bytes + f.svt_bytes + f.depth_bytes) / 1024.0, f.u_bytes / 1024.0, f.depth_bytes / 1024.0,
-                        f.scattering_orders, f.photon_multiple, 100.0 * f.predicted_photon_noise,
-                        100.0 * f.radiance_quadrature_error, 100.0 * f.predictedLookError(), f.trace_seconds,
-                        f.compress_seconds);
+            const std::string rays = f.footprint_rays_per_axis > 0
+                                         ? std::to_string(f.radiance_rays_per_axis) + "/" +
+                                               std::to_string(f.footprint_rays_per_axis)
+                                         : "-";
+            std::printf(
+                "%6d %5d %10.2e %10.2e %10.2e %9.1e %9.1f %9.1f %9.1f %7d %7.2fx %8.2f %7.2f %5s %10.2f "
+                "%9.1f %9.1f",
+                f.frame, f.rank, f.truncation_error, f.quantisation_error,
+                std::hypot(f.truncation_error, f.quantisation_error), f.alpha_storage_bound,
+                (f.u_bytes + f.svt_bytes + f.depth_bytes) / 1024.0, f.u_bytes / 1024.0,
+                f.depth_bytes / 1024.0, f.scattering_orders, f.photon_multiple,
+                100.0 * f.predicted_photon_noise, 100.0 * f.radiance_quadrature_error, rays.c_str(),
+                100.0 * f.predictedLookError(), f.trace_seconds, f.compress_seconds);
             if (sized) std::printf(" %6.3f", f.quality_scale);
             const double noise_target = config.trace.photon_noise_target;
             std::printf("%s%s%s\n", f.has_target && !f.target_met ? "  (over target)" : "",

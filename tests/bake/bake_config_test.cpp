@@ -184,8 +184,11 @@ TEST(BakeConfig, QualityPresetsAndTheirOverrides) {
     EXPECT_GT(preview.photon_noise_target, defaults.photon_noise_target);
     EXPECT_LT(preview.photon_pilot_share, defaults.photon_pilot_share);
     EXPECT_LT(final_.photon_noise_target, defaults.photon_noise_target);
-    EXPECT_EQ(radianceSamplesPerAxis(defaults, 4), 4) << "default and final: every footprint ray carries radiance";
+    EXPECT_EQ(radianceSamplesPerAxis(defaults, 4), 4) << "default and final: up to every footprint ray";
+    EXPECT_EQ(radianceCandidates(defaults, 4), std::vector<int>{2})
+        << "default: 2x2 where their error allows";
     EXPECT_EQ(radianceSamplesPerAxis(final_, 4), 4);
+    EXPECT_EQ(radianceCandidates(final_, 4), std::vector<int>{}) << "final: every footprint ray";
     EXPECT_EQ(radianceSamplesPerAxis(preview, 4), 2) << "preview: 2x2 of them";
 
     const BakeConfig from_file = apply(dir, R"({"quality": "preview", "trace": {"step_voxels": 0.2}})");

@@ -279,6 +279,53 @@ TEST(BasisTracer, RadianceRaysCanBeFewerThanTheFootprintRays) {
     EXPECT_NEAR(split.radiance_quadrature_error, std::sqrt(diff2 / value2), 1e-9);
 }
 
+// By default the trace chooses m per frame: it measures the quadrature error of every m that marches
+// at most half the footprint's rays on the check pixels first, and takes the smallest within
+// radiance_quadrature_target. What it then traces is the bake with that m given, bit for bit.
+TEST(BasisTracer, RadianceRaysAreChosenByTheirQuadratureError) {
+    TraceSettings settings;
+    EXPECT_EQ(settings.radiance_samples_per_axis, 0);
+    EXPECT_GT(settings.radiance_quadrature_target, 0.0);
+    EXPECT_EQ(radianceCandidates(settings, 2), std::vector<int>{}) << "1 of 2 would be no footprint at all";
+    EXPECT_EQ(radianceCandidates(settings, 3), std::vector<int>{2});
+    EXPECT_EQ(radianceCandidates(settings, 4), std::vector<int>{2}) << "3 of 4 saves too few rays";
+    EXPECT_EQ(radianceCandidates(settings, 6), (std::vector<int>{2, 3, 4}));
+    settings.radiance_samples_per_axis = 2;
+    EXPECT_EQ(radianceCandidates(settings, 4), std::vector<int>{}) << "a given m is not chosen";
+    settings.radiance_samples_per_axis = 0;
+    settings.radiance_quadrature_target = 0.0;
+    EXPECT_EQ(radianceCandidates(settings, 4), std::vector<int>{}) << "0: every footprint ray";
+
+    const ScatteringBox box;
+    const auto trace = [&](int m, double target) {
+        TraceSettings t = fastTrace(3);
+        t.footprint_step = 0.0;
+        t.footprint_samples_per_axis = 4;
+        t.radiance_samples_per_axis = m;
+        t.radiance_quadrature_target = target;
+        return traceFrameBasis(box.medium, box.camera, box.model, t);
+    };
+    const FrameBasis given = trace(2, 0.0), every = trace(4, 0.0);
+    ASSERT_GT(given.radiance_quadrature_error, 0.0) << "the case must have a quadrature error";
+
+    // A target above the 2x2 rays' error: they are taken, with the error the given m measures.
+    const FrameBasis loose = trace(0, 2.0 * given.radiance_quadrature_error);
+    EXPECT_EQ(loose.radiance_samples, 4);
+    EXPECT_TRUE(loose.matrix == given.matrix);
+    EXPECT_TRUE(loose.depth_b == given.depth_b && loose.depth_a == given.depth_a);
+    EXPECT_EQ(loose.radiance_quadrature_error, given.radiance_quadrature_error);
+    ASSERT_EQ(loose.radiance_candidate_errors.size(), 1u);
+    EXPECT_EQ(loose.radiance_candidate_errors[0], given.radiance_quadrature_error);
+
+    // A target below it: every ray, and no quadrature error left.
+    const FrameBasis tight = trace(0, 0.5 * given.radiance_quadrature_error);
+    EXPECT_EQ(tight.radiance_samples, 16);
+    EXPECT_TRUE(tight.matrix == every.matrix);
+    EXPECT_EQ(tight.radiance_quadrature_error, 0.0);
+    ASSERT_EQ(tight.radiance_candidate_errors.size(), 1u);
+    EXPECT_EQ(tight.radiance_candidate_errors[0], given.radiance_quadrature_error) << "what the 2x2 rays had";
+}
+
 // A stop asked for while the scattering cells or the light depths are built ends the trace there,
 // not at the next stage (issue 28: on a large frame those stages took 4-15 s without a check).
 TEST(BasisTracer, AStopIsSeenInsideTheSetupStages) {

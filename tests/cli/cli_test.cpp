@@ -474,6 +474,9 @@ TEST(Cli, BakeQualityPresetIsPrintedRecordedAndPredicted) {
     const json frame = json::parse(readFile(dir / "report.json")).at("frames")[0];
     const double predicted = frame.at("predicted_look_error").get<double>();
     EXPECT_GT(frame.at("radiance_quadrature_error").get<double>(), 0.0) << "2x2 of 8x8 rays: measured";
+    EXPECT_EQ(frame.at("radiance_rays_per_axis").get<int>(), 2);
+    EXPECT_EQ(frame.at("footprint_rays_per_axis").get<int>(), 8);
+    EXPECT_NE(r.out.find(" 2/8 "), std::string::npos) << "the table's rays column\n" << r.out;
     EXPECT_NEAR(predicted,
                 std::sqrt(std::pow(frame.at("svd_truncation_relative_error").get<double>(), 2) +
                           std::pow(frame.at("storage_relative_error").get<double>(), 2) +
