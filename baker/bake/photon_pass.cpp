@@ -231,7 +231,17 @@ std::vector<float> photonPass(const TransportContext& ctx, SourceKind kind, cons
     buffers.chunks.resize(kChunksAtOnce);
     const int G = ctx.tables.points, C = ctx.tables.columns;
     const std::size_t row = static_cast<std::size_t>(G) * C;
-    std::vector<float> total(ctx.field_size, 0.0f);
+    std::vector<float> total;
+    if (buffers.spare.size() == ctx.field_size) {
+        total = std::move(buffers.spare);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, total.size(), 1 << 18),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              std::fill(total.begin() + r.begin(), total.begin() + r.end(), 0.0f);
+                          });
+    } else {
+        total.assign(ctx.field_size, 0.0f);
+    }
+    buffers.spare = {};
     for (int first = 0; first < kPhotonChunks; first += kChunksAtOnce) {
         tbb::parallel_for(0, kChunksAtOnce, [&](int b) {
             traceChunk(ctx, kind, sampler, sequence, previous, photons, seed, first + b, buffers.chunks[b]);

@@ -40,6 +40,10 @@ struct PhotonPassBuffers {
         std::vector<std::uint8_t> seen;   // per slot: in `touched`
     };
     std::vector<Chunk> chunks;  // allocated by the first pass
+    // A field the caller no longer needs (an order before the previous one), which the next pass
+    // zeroes and returns instead of allocating one: a fresh field of the bundled sample's frame 12
+    // (97 MB) cost 40-50 ms of page faults a pass, a dozen passes a chain.
+    std::vector<float> spare;
 };
 
 // Lbar per slot, grid point and column produced by `photons` photons from one kind of source.

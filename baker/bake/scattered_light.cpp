@@ -1,5 +1,6 @@
 #include "bake/scattered_light.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -78,21 +79,28 @@ void ScatteredLightTracer::traceChain(int chain, const std::function<void(double
     const std::uint64_t seed = chainSeed(settings_.seed, chain);
     const float sign = chain % 2 == 0 ? 1.0f : -1.0f;
     const std::size_t row = static_cast<std::size_t>(G) * C;
+    // Element by element, so on both cores in any split (same bytes): whole fields, once an order.
     const auto add = [&](const std::vector<float>& field, const float* factor) {
-        for (std::size_t r = 0; r < field.size(); r += row)
-            for (std::size_t j = 0; j < row; ++j) {
-                const float v = factor ? factor[j] * field[r + j] : field[r + j];
-                sum_[r + j] += v;
-                signed_sum_[r + j] += sign * v;
-            }
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, field.size() / row, 256),
+                          [&](const tbb::blocked_range<std::size_t>& slots) {
+                              for (std::size_t r = slots.begin() * row; r < slots.end() * row; r += row)
+                                  for (std::size_t j = 0; j < row; ++j) {
+                                      const float v = factor ? factor[j] * field[r + j] : field[r + j];
+                                      sum_[r + j] += v;
+                                      signed_sum_[r + j] += sign * v;
+                                  }
+                          });
     };
     std::vector<float> order = photonPass(ctx_, SourceKind::Emission, *emission_sampler_, nullptr, photons_primary_, seed, buffers_);
     progress(0.1);
     if (tb.lights > 0) {
-        const std::vector<float> light =
-            photonPass(ctx_, SourceKind::LightScatter, *density_sampler_, nullptr, photons_primary_, seed + 1,
-                       buffers_);
-        for (size_t i = 0; i < order.size(); ++i) order[i] += light[i];
+        std::vector<float> light = photonPass(ctx_, SourceKind::LightScatter, *density_sampler_, nullptr,
+                                              photons_primary_, seed + 1, buffers_);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1 << 16),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t i = r.begin(); i != r.end(); ++i) order[i] += light[i];
+                          });
+        buffers_.spare = std::move(light);
     }
     OrderSeries series(ctx_.cells, G, C, counted_, albedo_);
     series.add(order);
@@ -103,8 +111,10 @@ void ScatteredLightTracer::traceChain(int chain, const std::function<void(double
         const int photons = std::max(1, static_cast<int>(std::lround(share * photons_per_order_)));
         order_photons_ += photons;
         order_photons_equal_ += photons_per_order_;
-        order = photonPass(ctx_, SourceKind::Scattered, *density_sampler_, &order, photons, seed + 16 * k,
-                           buffers_);
+        std::vector<float> next = photonPass(ctx_, SourceKind::Scattered, *density_sampler_, &order, photons,
+                                             seed + 16 * k, buffers_);
+        buffers_.spare = std::move(order);
+        order = std::move(next);
         series.add(order);
         add(order, nullptr);
         progress(0.2 + 0.8 * k / settings_.max_orders);
