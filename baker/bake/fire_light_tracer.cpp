@@ -130,7 +130,7 @@ basis::FireLightTable traceFireLights(const render::Medium& medium, const BasisM
                     if (rho <= 0.0f) return true;
                     tb.split(rho, t, ds, df);
                     tb.advanceDepths(ds, df, dt * scale, smoke, flame);
-                    return tb.maxTransmittance(smoke, flame) > kNegligibleTransmittance;
+                    return tb.minDepthOfLeastExtinction(smoke, flame) < kNegligibleDepth;
                 });
             tb.transmittance(smoke, flame, tau.data());
             for (int g = 0; g < tb.points; ++g) out[g] += tau[g] / static_cast<float>(directions.size());

@@ -90,7 +90,7 @@ LightDepthField buildLightDepths(const render::Medium& medium, const BasisModel&
                         if (rho <= 0.0f) return true;
                         tb.split(rho, t, s, f);
                         tb.advanceDepths(s, f, dt, smoke, flame);
-                        return tb.maxTransmittance(smoke, flame) > kNegligibleTransmittance;
+                        return tb.minDepthOfLeastExtinction(smoke, flame) < kNegligibleDepth;
                     });
                     float* out = field.depths.data() +
                                  (l * points + x + static_cast<std::size_t>(field.count.x) *

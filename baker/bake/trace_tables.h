@@ -185,13 +185,6 @@ struct TraceTables {
         }
     }
 
-    // Largest transmittance over the grid (smallest k_s and k_f, every T_c).
-    float maxTransmittance(const float* d_smoke, const float* d_flame) const {
-        float best = 0.0f;
-        for (int a = 0; a < n_tc; ++a)
-            best = std::max(best, expNonPositive(-ks[0] * d_smoke[a] - kf[0] * d_flame[a]));
-        return best;
-    }
     // The smallest optical depth over the grid (smallest k_s and k_f, every T_c): the depth of the
     // largest transmittance, to compare with kNegligibleDepth.
     float minDepthOfLeastExtinction(const float* d_smoke, const float* d_flame) const {
@@ -199,7 +192,7 @@ struct TraceTables {
         for (int a = 1; a < n_tc; ++a) least = std::min(least, ks[0] * d_smoke[a] + kf[0] * d_flame[a]);
         return least;
     }
-    // The same from a grid of transmittances transmittance() wrote (no exponential).
+    // The largest transmittance over the grid, from the grid transmittance() wrote.
     float maxTransmittance(const float* tau) const {
         float best = 0.0f;
         for (int a = 0; a < n_tc; ++a) best = std::max(best, tau[a * n_ks * n_kf]);
