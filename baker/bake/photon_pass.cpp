@@ -49,6 +49,10 @@ struct PhotonSequence {
     }
 };
 
+// Whether a pass's chunk fields are [slot][column][point] (the kinds whose photons carry a few
+// columns) rather than [slot][point][column] (traceChunk's deposit).
+bool depositsByColumn(SourceKind kind) { return kind != SourceKind::Scattered; }
+
 void traceChunk(const TransportContext& ctx, SourceKind kind, const PhotonStartSampler& sampler,
                 const PhotonSequence& sequence, const std::vector<float>* previous, int photons,
                 std::uint64_t seed, int chunk, PhotonPassBuffers::Chunk& buffer) {
@@ -59,8 +63,8 @@ void traceChunk(const TransportContext& ctx, SourceKind kind, const PhotonStartS
         buffer.seen.assign(static_cast<std::size_t>(ctx.cells.slots), 0);
     }
     std::vector<float>& field = buffer.field;
-    // A photon's weight per grid point and column, and the same as [column][point] (what the
-    // deposit loops over, with the chunk's field in that layout).
+    // A photon's weight per grid point and column, and a light-scatter photon's as [column][point]
+    // (what its deposit loops over).
     std::vector<float> weight(static_cast<std::size_t>(G) * C),
         weight_by_column(static_cast<std::size_t>(G) * C);
     std::vector<float> tau(G), tau_next(G), sigma_t(G), ltau(G), cell_sum(G), cell_depth(G);
@@ -121,9 +125,9 @@ void traceChunk(const TransportContext& ctx, SourceKind kind, const PhotonStartS
             }
         }
         if (!any) continue;
-        if (kind != SourceKind::Emission)
+        if (kind == SourceKind::LightScatter)
             for (int g = 0; g < G; ++g)
-                for (int col = 0; col < C; ++col) weight_by_column[col * G + g] = weight[g * C + col];
+                for (int col = tb.bins; col < C; ++col) weight_by_column[col * G + g] = weight[g * C + col];
 
         // Columns this photon carries: a window of bins, or the light columns, or all.
         int col_first = 0, col_last = C;
@@ -175,12 +179,22 @@ void traceChunk(const TransportContext& ctx, SourceKind kind, const PhotonStartS
                                                             (1.0f - 0.5f * x[g] + x[g] * x[g] * (1.0f / 6.0f))
                                                       : t_entry[g] - t_exit[g]);
                 }
-                // The chunk's field is [slot][column][point] (photonPass turns it back), so every
-                // column is one loop over the grid points: emission photons carry a few bins and
-                // light-scatter ones one column, which in [point][column] were 96 loops of 1-6.
+                // Emission and light-scatter photons carry a few bins or one column: their chunk's
+                // field is [slot][column][point] (photonPass turns it back), so that every column is
+                // one loop over the grid points, where [point][column] made 96 loops of 1-6. The
+                // further orders' photons carry every column, and keep [point][column].
                 float* out = field.data() + static_cast<std::size_t>(current_slot) * G * C;
                 const float* __restrict sum = cell_sum.data();
-                for (int col = col_first; col < col_last; ++col) {
+                if (!depositsByColumn(kind)) {
+                    for (int g = 0; g < G; ++g) {
+                        const float* __restrict w = weight.data() + static_cast<std::size_t>(g) * C;
+                        float* __restrict to = out + static_cast<std::size_t>(g) * C;
+                        const float sum_g = sum[g];
+#pragma omp simd
+                        for (int col = 0; col < C; ++col) to[col] += sum_g * w[col];
+                    }
+                }
+                for (int col = col_first; depositsByColumn(kind) && col < col_last; ++col) {
                     float* __restrict to = out + static_cast<std::size_t>(col) * G;
                     if (kind == SourceKind::Emission) {
                         const float w = weight[col];
@@ -257,9 +271,13 @@ std::vector<float> photonPass(const TransportContext& ctx, SourceKind kind, cons
                                       const int slot = chunk.touched[i];
                                       float* from = chunk.field.data() + static_cast<std::size_t>(slot) * row;
                                       float* to = total.data() + static_cast<std::size_t>(slot) * row;
-                                      for (int g = 0; g < G; ++g)  // [column][point] into [point][column]
-                                          for (int col = 0; col < C; ++col)
-                                              to[g * C + col] += from[col * G + g];
+                                      if (depositsByColumn(kind)) {  // [column][point] into [point][column]
+                                          for (int g = 0; g < G; ++g)
+                                              for (int col = 0; col < C; ++col)
+                                                  to[g * C + col] += from[col * G + g];
+                                      } else {
+                                          for (std::size_t j = 0; j < row; ++j) to[j] += from[j];
+                                      }
                                       std::fill(from, from + row, 0.0f);
                                       chunk.seen[slot] = 0;
                                   }

@@ -35,7 +35,7 @@ enum class SourceKind { Emission, LightScatter, Scattered };
 // slots, so few photons over many fine cells cost by the cells they reached, not by the field.
 struct PhotonPassBuffers {
     struct Chunk {
-        std::vector<float> field;         // field_size floats, [slot][column][point], zero outside `touched`
+        std::vector<float> field;  // field_size floats, zero outside `touched` (layout: photon_pass.cpp)
         std::vector<int> touched;         // slots deposited into, in the order first reached
         std::vector<std::uint8_t> seen;   // per slot: in `touched`
     };
