@@ -251,6 +251,8 @@ bake::TraceSettings traceSettingsOf(const ordered_json& metadata) {
     t.footprint_samples_per_axis = s.value("footprint_samples_per_axis", 1);
     // Packages from before the key: every footprint ray carried radiance, the default.
     t.radiance_samples_per_axis = s.value("radiance_samples_per_axis", t.radiance_samples_per_axis);
+    // And from before the trace chose m per frame (2026-12-07): 0 above meant every ray.
+    t.radiance_quadrature_target = s.value("radiance_quadrature_target", 0.0);
     return t;
 }
 
