@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
 
@@ -249,8 +250,8 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     out.matrix.assign(pixels * out.columns, 0.0f);
     const int per_axis = footprintSamplesPerAxis(settings, camera.width(), camera.height());
     out.footprint_samples = per_axis * per_axis;
-    out.radiance_samples =
-        radianceSamplesPerAxis(settings, per_axis) * radianceSamplesPerAxis(settings, per_axis);
+    const int given_per_axis = radianceSamplesPerAxis(settings, per_axis);
+    out.radiance_samples = given_per_axis * given_per_axis;  // until the camera pass measures
     out.depth_b.assign(pixels * out.footprint_samples, 0.0f);
     out.depth_a.assign(pixels * out.footprint_samples * tb.n_alpha, 0.0f);
     if (medium.empty()) return out;
@@ -327,18 +328,23 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     out.seconds_photons = lapSeconds(clock);
 
     // Camera rays: exact march of the fine medium, with a step from the pixel footprint.
-    // With fewer radiance rays than footprint rays, every kQuadratureCheckStride-th pixel of every
-    // kQuadratureCheckStride-th row is also gathered with all n x n rays: its squared differences,
-    // kept per row and summed in row order, give the quadrature's error (quadratureCheck). Where the
-    // trace chooses m, that check runs first, for every candidate m, and the camera pass takes the
-    // smallest m within radiance_quadrature_target.
+    // With fewer radiance rays than footprint rays, the quadrature's error is measured before the
+    // camera pass: every kQuadratureCheckStride-th pixel of every kQuadratureCheckStride-th row is
+    // gathered with all n x n rays and with each measured m's, and their squared differences, kept
+    // per row and summed in row order, give each m's error (quadratureCheck). The measured m are
+    // the candidates where the trace chooses (the smallest within radiance_quadrature_target is
+    // taken), or the given m alone.
     const std::size_t GC = out.columns;
-    const std::vector<int> candidates = radianceCandidates(settings, per_axis);
-    int radiance_per_axis = radianceSamplesPerAxis(settings, per_axis);
-    const bool measured_first = !candidates.empty();
-    if (measured_first) {
-        std::vector<std::vector<double>> diff2(candidates.size(), std::vector<double>(out.height, 0.0)),
-            value2(candidates.size(), std::vector<double>(out.height, 0.0));
+    int radiance_per_axis = given_per_axis;
+    std::vector<int> measured = radianceCandidates(settings, per_axis);
+    double target = settings.radiance_quadrature_target;
+    if (measured.empty() && radiance_per_axis < per_axis) {
+        measured = {radiance_per_axis};
+        target = std::numeric_limits<double>::infinity();
+    }
+    if (!measured.empty()) {
+        std::vector<std::vector<double>> diff2(measured.size(), std::vector<double>(out.height, 0.0)),
+            value2(measured.size(), std::vector<double>(out.height, 0.0));
         tbb::parallel_for(0, out.height, [&](int py) {
             if (py % kQuadratureCheckStride != kQuadratureCheckStride / 2 || gate.stopped()) return;
             CameraMarch ray_march(medium, tb, cells, light_depths, camera, min_step, settings.footprint_step,
@@ -348,10 +354,10 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                 fine.assign(GC, 0.0f);
                 ray_march.beginPixel();
                 gatherRadianceRays(ray_march, lbar_sum, out.width, per_axis, px, py, per_axis, fine.data());
-                for (std::size_t k = 0; k < candidates.size(); ++k) {
+                for (std::size_t k = 0; k < measured.size(); ++k) {
                     coarse.assign(GC, 0.0f);
                     ray_march.beginPixel();
-                    gatherRadianceRays(ray_march, lbar_sum, out.width, per_axis, px, py, candidates[k],
+                    gatherRadianceRays(ray_march, lbar_sum, out.width, per_axis, px, py, measured[k],
                                        coarse.data());
                     quadratureCheck(coarse.data(), fine.data(), G, C, tb.bins, diff2[k][py], value2[k][py]);
                 }
@@ -359,29 +365,22 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
         });
         gate.throwIfStopped();
         radiance_per_axis = per_axis;
-        for (std::size_t k = 0; k < candidates.size(); ++k) {
+        for (std::size_t k = 0; k < measured.size(); ++k) {
             const double error = relativeFrobeniusError(diff2[k], value2[k]);
             out.radiance_candidate_errors.push_back(error);
-            if (radiance_per_axis == per_axis && error <= settings.radiance_quadrature_target) {
-                radiance_per_axis = candidates[k];
+            if (radiance_per_axis == per_axis && error <= target) {
+                radiance_per_axis = measured[k];
                 out.radiance_quadrature_error = error;
             }
         }
     }
     out.radiance_samples = radiance_per_axis * radiance_per_axis;
     const bool shared = radiance_per_axis == per_axis;
-    const bool check = !shared && !measured_first;
-    std::vector<double> check_diff2, check_value2;
-    if (check) {
-        check_diff2.assign(out.height, 0.0);
-        check_value2.assign(out.height, 0.0);
-    }
     std::atomic<int> rows_done{0};
     tbb::parallel_for(tbb::blocked_range<int>(0, out.height, 4), [&](const tbb::blocked_range<int>& rows) {
         CameraMarch ray_march(medium, tb, cells, light_depths, camera, min_step, settings.footprint_step,
                               !lbar_sum.empty());
         std::vector<double> depth_a(tb.n_alpha);
-        std::vector<float> fine;  // a check pixel's row from all n x n rays
         const float radiance_weight = 1.0f / static_cast<float>(out.radiance_samples);
         for (int py = rows.begin(); py != rows.end(); ++py) {
             if (gate.stopped()) return;
@@ -408,19 +407,11 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                     continue;
                 }
                 gatherRadianceRays(ray_march, lbar_sum, out.width, per_axis, px, py, radiance_per_axis, row);
-                if (!check || px % kQuadratureCheckStride != kQuadratureCheckStride / 2 ||
-                    py % kQuadratureCheckStride != kQuadratureCheckStride / 2)
-                    continue;
-                fine.assign(GC, 0.0f);
-                ray_march.beginPixel();
-                gatherRadianceRays(ray_march, lbar_sum, out.width, per_axis, px, py, per_axis, fine.data());
-                quadratureCheck(row, fine.data(), G, C, tb.bins, check_diff2[py], check_value2[py]);
             }
             gate.report(0.6 + 0.4 * (rows_done.fetch_add(1) + 1) / out.height);
         }
     });
     gate.throwIfStopped();
-    if (check) out.radiance_quadrature_error = relativeFrobeniusError(check_diff2, check_value2);
     out.seconds_camera = lapSeconds(clock);
     return out;
 }

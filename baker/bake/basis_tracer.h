@@ -222,8 +222,9 @@ struct FrameBasis {
     // against all the footprint rays', on every 16th pixel, as a look sees it: per grid point, the
     // emission bins summed and each light's column (0 when they are the same rays).
     double radiance_quadrature_error = 0.0;
-    // Where the trace chose m (TraceSettings::radiance_quadrature_target): the error each
-    // candidate m had, in radianceCandidates' order (empty otherwise).
+    // The error each measured m had: the candidates in radianceCandidates' order where the trace
+    // chose m (TraceSettings::radiance_quadrature_target), the given m where it was fewer than n,
+    // empty where every footprint ray carried radiance.
     std::vector<double> radiance_candidate_errors;
     std::vector<float> depth_b;   // O_b: footprint sample x pixel
     std::vector<float> depth_a;   // O_a: footprint sample x alpha threshold x pixel

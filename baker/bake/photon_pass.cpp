@@ -152,8 +152,8 @@ void traceChunk(const TransportContext& ctx, SourceKind kind, const PhotonStartS
         // albedo * (tau at entry - tau at exit). So the steps only add up optical depths, and the
         // transmittance of every grid point is taken once a cell, where the track leaves it: the
         // same estimator, its rounding aside, for a third of the work a step. Where the cell's
-        // optical depth x is below 1e-3 the difference would cancel; tau_entry x (1 - x/2 + x^2/6)
-        // is taken there, as stepRemoved does for a step.
+        // optical depth x is below 1e-3 the difference would cancel; stepRemoved takes its series
+        // there, as it does for a step.
         int current_slot = -1;
         const auto leaveCell = [&] {
             tb.transmittance(d_smoke, d_flame, tau_next.data());
@@ -173,11 +173,8 @@ void traceChunk(const TransportContext& ctx, SourceKind kind, const PhotonStartS
                     const float* __restrict t_exit = tau_next.data();
                     float* __restrict removed = cell_sum.data();
 #pragma omp simd
-                    for (int g = 0; g < G; ++g)
-                        removed[g] =
-                            tb.albedo * (x[g] < 1e-3f ? t_entry[g] * x[g] *
-                                                            (1.0f - 0.5f * x[g] + x[g] * x[g] * (1.0f / 6.0f))
-                                                      : t_entry[g] - t_exit[g]);
+                    for (int g = 0; g < G; ++g)  // x as the extinction over a unit length
+                        removed[g] = tb.albedo * stepRemoved(t_entry[g], t_exit[g], x[g], 1.0f);
                 }
                 // Emission and light-scatter photons carry a few bins or one column: their chunk's
                 // field is [slot][column][point] (photonPass turns it back), so that every column is
@@ -193,18 +190,19 @@ void traceChunk(const TransportContext& ctx, SourceKind kind, const PhotonStartS
 #pragma omp simd
                         for (int col = 0; col < C; ++col) to[col] += sum_g * w[col];
                     }
-                }
-                for (int col = col_first; depositsByColumn(kind) && col < col_last; ++col) {
-                    float* __restrict to = out + static_cast<std::size_t>(col) * G;
-                    if (kind == SourceKind::Emission) {
-                        const float w = weight[col];
+                } else {
+                    for (int col = col_first; col < col_last; ++col) {
+                        float* __restrict to = out + static_cast<std::size_t>(col) * G;
+                        if (kind == SourceKind::Emission) {
+                            const float w = weight[col];
 #pragma omp simd
-                        for (int g = 0; g < G; ++g) to[g] += sum[g] * w;
-                    } else {
-                        const float* __restrict w =
-                            weight_by_column.data() + static_cast<std::size_t>(col) * G;
+                            for (int g = 0; g < G; ++g) to[g] += sum[g] * w;
+                        } else {
+                            const float* __restrict w =
+                                weight_by_column.data() + static_cast<std::size_t>(col) * G;
 #pragma omp simd
-                        for (int g = 0; g < G; ++g) to[g] += sum[g] * w[g];
+                            for (int g = 0; g < G; ++g) to[g] += sum[g] * w[g];
+                        }
                     }
                 }
             }
