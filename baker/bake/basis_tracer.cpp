@@ -128,14 +128,16 @@ void addGathered(const CameraMarch& ray_march, const std::vector<float>& lbar_su
 }
 
 // Adds pixel (px, py)'s radiance from m x m radiance-only rays to `to` (after beginPixel). They
-// march at the n x n footprint rays' step, so the step's error is the same whatever m.
-void gatherRadianceRays(CameraMarch& ray_march, const std::vector<float>& lbar_sum, int width, int per_axis,
-                        int px, int py, int m, float* to) {
+// march at the step of their own spacing (TraceSettings::footprint_step; never finer than
+// step_voxels, which is what the bundled sample's frames get at 128x128 and above): the quadrature
+// check measures what fewer rays and their longer steps cost together.
+void gatherRadianceRays(CameraMarch& ray_march, const std::vector<float>& lbar_sum, int width, int px, int py,
+                        int m, float* to) {
     const float weight = 1.0f / static_cast<float>(m * m);
     const std::size_t pixel = static_cast<std::size_t>(py) * width + px;
     for (int sample = 0; sample < m * m; ++sample)
-        ray_march.marchPixelRay(px, py, (sample % m + 0.5) / m, (sample / m + 0.5) / m, per_axis, weight,
-                                nullptr, nullptr, cameraRayPhase(pixel, sample));
+        ray_march.marchPixelRay(px, py, (sample % m + 0.5) / m, (sample / m + 0.5) / m, m, weight, nullptr,
+                                nullptr, cameraRayPhase(pixel, sample));
     addGathered(ray_march, lbar_sum, to);
 }
 
@@ -353,12 +355,11 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
             for (int px = kQuadratureCheckStride / 2; px < out.width; px += kQuadratureCheckStride) {
                 fine.assign(GC, 0.0f);
                 ray_march.beginPixel();
-                gatherRadianceRays(ray_march, lbar_sum, out.width, per_axis, px, py, per_axis, fine.data());
+                gatherRadianceRays(ray_march, lbar_sum, out.width, px, py, per_axis, fine.data());
                 for (std::size_t k = 0; k < measured.size(); ++k) {
                     coarse.assign(GC, 0.0f);
                     ray_march.beginPixel();
-                    gatherRadianceRays(ray_march, lbar_sum, out.width, per_axis, px, py, measured[k],
-                                       coarse.data());
+                    gatherRadianceRays(ray_march, lbar_sum, out.width, px, py, measured[k], coarse.data());
                     quadratureCheck(coarse.data(), fine.data(), G, C, tb.bins, diff2[k][py], value2[k][py]);
                 }
             }
@@ -368,6 +369,7 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
         for (std::size_t k = 0; k < measured.size(); ++k) {
             const double error = relativeFrobeniusError(diff2[k], value2[k]);
             out.radiance_candidate_errors.push_back(error);
+            out.radiance_candidate_rays.push_back(measured[k]);
             if (radiance_per_axis == per_axis && error <= target) {
                 radiance_per_axis = measured[k];
                 out.radiance_quadrature_error = error;
@@ -406,7 +408,7 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                     addGathered(ray_march, lbar_sum, row);
                     continue;
                 }
-                gatherRadianceRays(ray_march, lbar_sum, out.width, per_axis, px, py, radiance_per_axis, row);
+                gatherRadianceRays(ray_march, lbar_sum, out.width, px, py, radiance_per_axis, row);
             }
             gate.report(0.6 + 0.4 * (rows_done.fetch_add(1) + 1) / out.height);
         }

@@ -139,9 +139,10 @@ struct TraceSettings {
     // at 0.5 the silhouettes' optical depths moved alpha by 0.0116 against the same rays marched at
     // 0.1 (frame 3, 128x128, k_s 15); 0.25: 0.0018, 0.1: 0.0006.
     double step_voxels = 0.25;
-    // Camera-ray step as a fraction of the spacing of the footprint rays where the ray enters the
-    // volume, when that is longer than step_voxels: finer detail than the rays' own spacing is
-    // averaged away by the footprint anyway, so fine volumes cost per pixel, not per voxel.
+    // Camera-ray step as a fraction of the spacing of the rays a pixel marches where the ray enters
+    // the volume (the n x n footprint rays; the m x m radiance rays where they are fewer), when
+    // that is longer than step_voxels: finer detail than the rays' own spacing is averaged away by
+    // the footprint anyway, so fine volumes cost per pixel, not per voxel.
     double footprint_step = 0.5;
     // Camera rays per pixel along each axis of its footprint (n x n, cell-centred): a
     // pixel is the mean over its footprint, and alpha = mean(1 - exp(-tau)) needs the
@@ -224,8 +225,9 @@ struct FrameBasis {
     double radiance_quadrature_error = 0.0;
     // The error each measured m had: the candidates in radianceCandidates' order where the trace
     // chose m (TraceSettings::radiance_quadrature_target), the given m where it was fewer than n,
-    // empty where every footprint ray carried radiance.
+    // empty where every footprint ray carried radiance; radiance_candidate_rays holds each one's m.
     std::vector<double> radiance_candidate_errors;
+    std::vector<int> radiance_candidate_rays;
     std::vector<float> depth_b;   // O_b: footprint sample x pixel
     std::vector<float> depth_a;   // O_a: footprint sample x alpha threshold x pixel
     int scattering_orders = 0;          // orders traced

@@ -31,8 +31,9 @@ class CameraMarch {
     // Forgets the cells gathered for the previous pixel.
     void beginPixel();
     // Marches the camera ray through (px + u, py + v); its step is that of one of rays_per_axis^2
-    // footprint rays of its pixel. A ray gathers radiance, optical depths or both (the bake's alpha
-    // needs more rays a pixel than its radiance: TraceSettings::radiance_samples_per_axis):
+    // rays that share its pixel (TraceSettings::footprint_step). A ray gathers radiance, optical depths or
+    // both (the bake's alpha needs more rays a pixel than its radiance:
+    // TraceSettings::radiance_samples_per_axis):
     // - radiance_weight > 0: adds that times the ray's direct integrals and the gathered cells'
     //   weights to the pixel's; 0: none (a depth-only ray, several times cheaper);
     // - depth_b and depth_a (both or neither null) get the ray's optical depths, not weighted: b's,

@@ -66,8 +66,14 @@ void writeReportJson(const std::string& path, const std::string& sequence, const
              {"estimated_peak_mib", f.estimated_peak_bytes / 1048576.0},
              {"columns_traced", f.columns_traced},
              {"predicted_relative_error", std::hypot(f.truncation_error, f.quantisation_error)}});
-    for (size_t i = 0; i < report.frames.size(); ++i)
+    for (size_t i = 0; i < report.frames.size(); ++i) {
         if (report.frames[i].has_target) frames[i]["storage_target"] = bake::storageTargetEntry(report.frames[i]);
+        // Why the frame took its radiance rays: each m measured and its quadrature error.
+        nlohmann::ordered_json candidates = nlohmann::ordered_json::array();
+        for (const auto& [m, error] : report.frames[i].radiance_candidates)
+            candidates.push_back({{"rays_per_axis", m}, {"quadrature_error", error}});
+        frames[i]["radiance_candidates"] = std::move(candidates);
+    }
     // The sequence's path as typed is provenance of this run, not of the package, whose bytes do
     // not depend on it.
     nlohmann::ordered_json doc = {{"sequence", sequence},

@@ -105,17 +105,8 @@ glm::vec2 Medium::voxelOrBackground(int i, int j, int k) const {
                         static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(k))];
 }
 
-MediumSample Medium::sampleIndex(const glm::dvec3& index_point) const {
-    const glm::dvec3 relative = index_point - glm::dvec3(origin_);
-    const glm::dvec3 base = glm::floor(relative);
-    // Points whose eight neighbours all lie outside the box (NaN included) read the background.
-    if (!(base.x >= -1.0 && base.y >= -1.0 && base.z >= -1.0 && base.x < dims_.x && base.y < dims_.y &&
-          base.z < dims_.z))
-        return {0.0f, background_temperature_};
-    const glm::ivec3 i0(base);
-    const glm::vec3 f(relative - base);
-
-    glm::vec2 c[8];
+void Medium::cubeCorners(const glm::ivec3& corner, glm::vec2 (&c)[8]) const {
+    const glm::ivec3 i0 = corner - origin_;
     if (i0.x >= 0 && i0.y >= 0 && i0.z >= 0 && i0.x + 1 < dims_.x && i0.y + 1 < dims_.y &&
         i0.z + 1 < dims_.z) {
         const std::size_t sy = static_cast<std::size_t>(dims_.x);
@@ -128,6 +119,18 @@ MediumSample Medium::sampleIndex(const glm::dvec3& index_point) const {
         for (int n = 0; n < 8; ++n)
             c[n] = voxelOrBackground(i0.x + (n & 1), i0.y + ((n >> 1) & 1), i0.z + (n >> 2));
     }
+}
+
+MediumSample Medium::sampleIndex(const glm::dvec3& index_point) const {
+    const glm::dvec3 relative = index_point - glm::dvec3(origin_);
+    const glm::dvec3 base = glm::floor(relative);
+    // Points whose eight neighbours all lie outside the box (NaN included) read the background.
+    if (!(base.x >= -1.0 && base.y >= -1.0 && base.z >= -1.0 && base.x < dims_.x && base.y < dims_.y &&
+          base.z < dims_.z))
+        return {0.0f, background_temperature_};
+    const glm::vec3 f(relative - base);
+    glm::vec2 c[8];
+    cubeCorners(glm::ivec3(base) + origin_, c);
     const glm::vec2 x00 = c[0] + (c[1] - c[0]) * f.x;
     const glm::vec2 x10 = c[2] + (c[3] - c[2]) * f.x;
     const glm::vec2 x01 = c[4] + (c[5] - c[4]) * f.x;

@@ -65,6 +65,11 @@ class Medium {
     static Medium slab(double thickness, double lateral_size, float density, float temperature);
 
     MediumSample sampleIndex(const glm::dvec3& index_point) const;
+    // The eight stored values (density, temperature) at the corners of the unit index cube whose
+    // low corner is `corner`, x fastest, then y, then z (the background outside the stored box):
+    // what sampleIndex interpolates between inside that cube. For callers that sample one cube
+    // many times (the scattered-light cells' quadrature) and interpolate themselves.
+    void cubeCorners(const glm::ivec3& corner, glm::vec2 (&c)[8]) const;
     // The stored voxel at origin + relative (after sanitising), or density 0 and the background
     // temperature outside the stored box: the corners trilinear interpolation reads.
     MediumSample voxel(const glm::ivec3& relative) const {

@@ -476,6 +476,11 @@ TEST(Cli, BakeQualityPresetIsPrintedRecordedAndPredicted) {
     EXPECT_GT(frame.at("radiance_quadrature_error").get<double>(), 0.0) << "2x2 of 8x8 rays: measured";
     EXPECT_EQ(frame.at("radiance_rays_per_axis").get<int>(), 2);
     EXPECT_EQ(frame.at("footprint_rays_per_axis").get<int>(), 8);
+    const json candidates = frame.at("radiance_candidates");  // preview's given m, measured
+    ASSERT_EQ(candidates.size(), 1u) << candidates;
+    EXPECT_EQ(candidates[0].at("rays_per_axis").get<int>(), 2);
+    EXPECT_EQ(candidates[0].at("quadrature_error").get<double>(),
+              frame.at("radiance_quadrature_error").get<double>());
     EXPECT_NE(r.out.find(" 2/8 "), std::string::npos) << "the table's rays column\n" << r.out;
     EXPECT_NEAR(predicted,
                 std::sqrt(std::pow(frame.at("svd_truncation_relative_error").get<double>(), 2) +
