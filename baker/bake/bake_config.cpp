@@ -109,13 +109,14 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         }
         if (j.contains("trace")) {
             const json& t = j["trace"];
-            checkKeys(t,
-                      {"cell_voxels", "max_cells_per_axis", "max_cell_optical_depth", "light_points_per_axis",
-                       "photons_primary", "photons_per_order", "photon_noise_target", "max_photon_scale",
-                       "photon_pilot_share", "min_order_photon_share", "max_orders", "order_tolerance",
-                       "step_voxels", "footprint_step", "footprint_samples_per_axis",
-                       "radiance_samples_per_axis", "radiance_quadrature_target"},
-                      "trace");
+            checkKeys(
+                t,
+                {"cell_voxels", "max_cells_per_axis", "max_cell_optical_depth", "light_points_per_axis",
+                 "photons_primary", "photons_per_order", "photon_noise_target", "max_photon_scale",
+                 "photon_pilot_share", "min_order_photon_share", "max_orders", "order_tolerance",
+                 "step_voxels", "footprint_step", "footprint_samples_per_axis", "radiance_samples_per_axis",
+                 "radiance_quadrature_target", "radiance_quadrature_noise_share"},
+                "trace");
             c.trace.cell_voxels = t.value("cell_voxels", c.trace.cell_voxels);
             c.trace.max_cells_per_axis = t.value("max_cells_per_axis", c.trace.max_cells_per_axis);
             c.trace.max_cell_optical_depth = t.value("max_cell_optical_depth", c.trace.max_cell_optical_depth);
@@ -134,6 +135,8 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             c.trace.radiance_samples_per_axis = t.value("radiance_samples_per_axis", c.trace.radiance_samples_per_axis);
             c.trace.radiance_quadrature_target =
                 t.value("radiance_quadrature_target", c.trace.radiance_quadrature_target);
+            c.trace.radiance_quadrature_noise_share =
+                t.value("radiance_quadrature_noise_share", c.trace.radiance_quadrature_noise_share);
         }
         if (j.contains("compression")) {
             const json& t = j["compression"];
@@ -164,15 +167,15 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             c.trace.photons_per_order < 1 || c.trace.footprint_samples_per_axis < 0 ||
             c.trace.footprint_samples_per_axis > 8 || c.trace.radiance_samples_per_axis < 0 ||
             c.trace.radiance_samples_per_axis > 8 || !(c.trace.radiance_quadrature_target >= 0.0) ||
-            !(c.trace.photon_noise_target >= 0.0) || c.trace.max_photon_scale < 1 ||
-            c.trace.max_photon_scale > 64 ||
+            !(c.trace.radiance_quadrature_noise_share >= 0.0) || !(c.trace.photon_noise_target >= 0.0) ||
+            c.trace.max_photon_scale < 1 || c.trace.max_photon_scale > 64 ||
             !(c.trace.photon_pilot_share > 0.0 && c.trace.photon_pilot_share <= 1.0) ||
             !(c.trace.min_order_photon_share > 0.0 && c.trace.min_order_photon_share <= 1.0))
             throw Error(
                 ErrorCode::InvalidArgument,
                 "trace settings must be positive (footprint_samples_per_axis 0..8, 0 = from the image size; "
                 "radiance_samples_per_axis 0..8, 0 = from radiance_quadrature_target (>= 0, 0 = every "
-                "footprint ray); "
+                "footprint ray) and radiance_quadrature_noise_share (>= 0); "
                 "photon_noise_target >= 0, 0 = the photons as given; max_photon_scale 1..64; "
                 "photon_pilot_share and min_order_photon_share in (0, 1])");
     } catch (const Error& e) {
@@ -310,7 +313,8 @@ std::string configToJson(const BakeConfig& c) {
                   {"step_voxels", c.trace.step_voxels},
                   {"footprint_samples_per_axis", c.trace.footprint_samples_per_axis},
                   {"radiance_samples_per_axis", c.trace.radiance_samples_per_axis},
-                  {"radiance_quadrature_target", c.trace.radiance_quadrature_target}};
+                  {"radiance_quadrature_target", c.trace.radiance_quadrature_target},
+                  {"radiance_quadrature_noise_share", c.trace.radiance_quadrature_noise_share}};
     j["compression"] = {{"target_relative_error", c.compression.target_relative_error},
                         {"max_rank", c.compression.max_rank},
                         {"alpha_error", c.storage.alpha_error},

@@ -399,6 +399,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         fr.radiance_quadrature_error = traced.radiance_quadrature_error;
         fr.radiance_rays_per_axis = static_cast<int>(std::lround(std::sqrt(traced.radiance_samples)));
         fr.footprint_rays_per_axis = static_cast<int>(std::lround(std::sqrt(traced.footprint_samples)));
+        fr.radiance_quadrature_allowance = traced.radiance_quadrature_allowance;
         for (std::size_t k = 0; k < traced.radiance_candidate_rays.size(); ++k)
             fr.radiance_candidates.emplace_back(traced.radiance_candidate_rays[k],
                                                 traced.radiance_candidate_errors[k]);

@@ -46,8 +46,10 @@ struct FrameBakeReport {
     // The m of the m x m radiance rays a pixel the frame was traced with, and the n of its footprint
     // rays (TraceSettings::radiance_quadrature_target chooses m per frame).
     int radiance_rays_per_axis = 0, footprint_rays_per_axis = 0;
-    // Each m the trace measured before choosing, with its quadrature error (--report only).
+    // Each m the trace measured before choosing, with its quadrature error, and the error it allowed
+    // (FrameBasis::radiance_quadrature_allowance; --report only).
     std::vector<std::pair<int, double>> radiance_candidates;
+    double radiance_quadrature_allowance = 0.0;
     // What the bake predicts for a look's relative RMSE: the SVD and storage error, the photon noise
     // (its worst column's) and the quadrature error together in quadrature. A guide, not a bound:
     // the blend between grid points and the march step's bias are not in it (scripts/bench/

@@ -334,12 +334,15 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     // camera pass: every kQuadratureCheckStride-th pixel of every kQuadratureCheckStride-th row is
     // gathered with all n x n rays and with each measured m's, and their squared differences, kept
     // per row and summed in row order, give each m's error (quadratureCheck). The measured m are
-    // the candidates where the trace chooses (the smallest within radiance_quadrature_target is
+    // the candidates where the trace chooses (the smallest within radiance_quadrature_target, or the
+    // share of the photon noise radiance_quadrature_noise_share allows where that is more, is
     // taken), or the given m alone.
     const std::size_t GC = out.columns;
     int radiance_per_axis = given_per_axis;
     std::vector<int> measured = radianceCandidates(settings, per_axis);
-    double target = settings.radiance_quadrature_target;
+    double target = std::max(settings.radiance_quadrature_target,
+                             settings.radiance_quadrature_noise_share * out.predicted_photon_noise);
+    if (!measured.empty()) out.radiance_quadrature_allowance = target;
     if (measured.empty() && radiance_per_axis < per_axis) {
         measured = {radiance_per_axis};
         target = std::numeric_limits<double>::infinity();

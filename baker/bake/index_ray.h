@@ -48,25 +48,41 @@ inline bool clipToBox(const IndexRay& ray, const IndexBox& box, double& t0, doub
     return render::intersectBox(ray.origin, ray.direction, box.lo, box.hi, t0, t1);
 }
 
-// Whether the medium is zero throughout the brick (Medium::kBrickSize) that holds the ray's point
-// at t, and where the ray leaves that brick: `exit`, a ray parameter. Outside the bricks' grid (zero
-// everywhere) the empty run ends where the ray enters the grid, or never.
-inline bool emptyBrickAt(const render::Medium& medium, const IndexRay& ray, double t, double& exit) {
+// A ray in the bricks' grid (Medium::kBrickSize voxels a unit), prepared once a march: the brick
+// test runs at nearly every step of a photon track (steps of half a cell, bricks of 4 voxels), and
+// with a division per axis it was 8% of the photon passes on a frame upsampled 4x.
+struct BrickRay {
+    glm::dvec3 origin, direction, inverse;  // inverse: 1 / direction per axis (0 where it is 0)
+    glm::ivec3 counts;
+};
+
+inline BrickRay toBrickGrid(const render::Medium& medium, const IndexRay& ray) {
     constexpr double kBrick = render::Medium::kBrickSize;
-    const glm::dvec3 g = (ray.origin + t * ray.direction - medium.brickGridOrigin()) / kBrick;
-    const glm::dvec3 dg = ray.direction / kBrick;
+    const glm::dvec3 direction = ray.direction / kBrick;
+    glm::dvec3 inverse(0.0);
+    for (int a = 0; a < 3; ++a)
+        if (direction[a] != 0.0) inverse[a] = 1.0 / direction[a];
+    return {(ray.origin - medium.brickGridOrigin()) / kBrick, direction, inverse, medium.brickCounts()};
+}
+
+// Whether the medium is zero throughout the brick that holds the ray's point at t, and where the
+// ray leaves that brick: `exit`, a ray parameter. Outside the bricks' grid (zero everywhere) the
+// empty run ends where the ray enters the grid, or never.
+inline bool emptyBrickAt(const render::Medium& medium, const BrickRay& ray, double t, double& exit) {
+    const glm::dvec3 g = ray.origin + t * ray.direction;
     const glm::dvec3 cell = glm::floor(g);
     const glm::ivec3 b(cell);
-    const glm::ivec3 counts = medium.brickCounts();
     exit = std::numeric_limits<double>::infinity();
-    if (glm::any(glm::lessThan(b, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(b, counts))) {
+    if (glm::any(glm::lessThan(b, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(b, ray.counts))) {
         double t_enter, t_leave;
-        if (render::intersectBox(g, dg, glm::dvec3(0.0), glm::dvec3(counts), t_enter, t_leave))
+        if (render::intersectBox(g, ray.direction, glm::dvec3(0.0), glm::dvec3(ray.counts), t_enter, t_leave))
             exit = t + t_enter;
         return true;
     }
     for (int a = 0; a < 3; ++a)
-        if (dg[a] != 0.0) exit = std::min(exit, t + ((dg[a] > 0.0 ? cell[a] + 1.0 : cell[a]) - g[a]) / dg[a]);
+        if (ray.direction[a] != 0.0)
+            exit = std::min(exit,
+                            t + ((ray.direction[a] > 0.0 ? cell[a] + 1.0 : cell[a]) - g[a]) * ray.inverse[a]);
     return !(medium.brick(b).max_density > 0.0f);
 }
 
@@ -84,13 +100,14 @@ template <typename Visit>
 void march(const render::Medium& medium, const IndexRay& ray, double t_start, double t_end, double step,
            double phase, Visit&& visit) {
     double dt = std::min(phase * step, t_end - t_start);
+    const BrickRay bricks = toBrickGrid(medium, ray);
     // Where the brick last found to hold density ends: no lookup before then.
     double brick_end = -std::numeric_limits<double>::infinity();
     for (double t = t_start; t < t_end; t += dt, dt = std::min(step, t_end - t)) {
         const double mid = t + 0.5 * dt;
         if (mid >= brick_end) {
             double exit;
-            if (emptyBrickAt(medium, ray, mid, exit)) {
+            if (emptyBrickAt(medium, bricks, mid, exit)) {
                 // Skip every whole step whose midpoint is still before the exit; the loop's
                 // increment takes the last of them.
                 if (dt == step && exit > mid) {

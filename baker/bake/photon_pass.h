@@ -31,17 +31,17 @@ struct TransportContext {
 enum class SourceKind { Emission, LightScatter, Scattered };
 
 // What photonPass accumulates into, kept between passes: one buffer per chunk of photons that run
-// at once, each zero outside the slots its photons reached. A pass clears and sums only those
-// slots, so few photons over many fine cells cost by the cells they reached, not by the field.
+// at once, each zero outside the slots its photons reached. A pass reads and clears only those
+// slots, so few photons over many fine cells cost by the cells they reached and one write of the
+// result.
 struct PhotonPassBuffers {
     struct Chunk {
-        std::vector<float> field;  // field_size floats, zero outside `touched` (layout: photon_pass.cpp)
-        std::vector<int> touched;         // slots deposited into, in the order first reached
-        std::vector<std::uint8_t> seen;   // per slot: in `touched`
+        std::vector<float> field;  // field_size floats, zero outside seen slots (layout: photon_pass.cpp)
+        std::vector<std::uint8_t> seen;  // per slot: deposited into
     };
     std::vector<Chunk> chunks;  // allocated by the first pass
     // A field the caller no longer needs (an order before the previous one), which the next pass
-    // zeroes and returns instead of allocating one: a fresh field of the bundled sample's frame 12
+    // overwrites and returns instead of allocating one: a fresh field of the bundled sample's frame 12
     // (97 MB) cost 40-50 ms of page faults a pass, a dozen passes a chain.
     std::vector<float> spare;
 };

@@ -78,17 +78,6 @@ int ScatterCells::corners(const glm::dvec3& index_point, int* slots_out, float* 
     return n;
 }
 
-void ScatterCells::normalise(std::vector<float>& field, int points, int columns) const {
-    tbb::parallel_for(0, slots, [&](int s) {
-        for (int g = 0; g < points; ++g) {
-            const float m = mass[static_cast<std::size_t>(s) * points + g];
-            const float inv = m > 0.0f ? 1.0f / m : 0.0f;
-            float* v = field.data() + (static_cast<std::size_t>(s) * points + g) * columns;
-            for (int c = 0; c < columns; ++c) v[c] *= inv;
-        }
-    });
-}
-
 int scatterCellEdge(const render::Medium& medium, int min_voxels, int max_per_axis) {
     const int per_axis = std::max(max_per_axis, 1);
     const int by_extent = (longestInfluenceAxis(medium) + per_axis - 1) / per_axis;

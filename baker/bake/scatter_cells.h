@@ -45,8 +45,14 @@ struct ScatterCells {
     // Trilinear interpolation between cell centres, clamped at the grid's faces, over the corners
     // that have density only (their weights renormalised): returns how many corners were written.
     int corners(const glm::dvec3& index_point, int* slots_out, float* weights_out) const;
-    // Turns the accumulated integral of sigma_s Lbar per slot, grid point and column into Lbar.
-    void normalise(std::vector<float>& field, int points, int columns) const;
+    // 1 / M of a slot's grid points (0 where M is 0): what turns the integral of sigma_s Lbar over
+    // the cell into Lbar.
+    void inverseMasses(int slot, int points, float* inverse) const {
+        for (int g = 0; g < points; ++g) {
+            const float m = mass[static_cast<std::size_t>(slot) * points + g];
+            inverse[g] = m > 0.0f ? 1.0f / m : 0.0f;
+        }
+    }
 };
 
 // Cell edge in voxels: at least `min_voxels`, and coarse enough that no axis of the influence box

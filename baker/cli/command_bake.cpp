@@ -48,6 +48,7 @@ void writeReportJson(const std::string& path, const std::string& sequence, const
              {"predicted_photon_noise", f.predicted_photon_noise},
              {"radiance_quadrature_error", f.radiance_quadrature_error},
              {"radiance_rays_per_axis", f.radiance_rays_per_axis},
+             {"radiance_quadrature_allowance", f.radiance_quadrature_allowance},
              {"footprint_rays_per_axis", f.footprint_rays_per_axis},
              {"predicted_look_error", f.predictedLookError()},
              {"trace_seconds", f.trace_seconds},
@@ -132,10 +133,12 @@ std::string describeTraceChoice(const bake::BakeConfig& config) {
     if (candidates.empty())
         std::snprintf(radiance, sizeof radiance, "%dx%d of them", m, m);
     else
-        std::snprintf(radiance, sizeof radiance,
-                      "%dx%d of them, or as few as %dx%d where their quadrature error is within %g%% (chosen "
-                      "per frame)",
-                      m, m, candidates.front(), candidates.front(), 100.0 * t.radiance_quadrature_target);
+        std::snprintf(
+            radiance, sizeof radiance,
+            "%dx%d of them, or as few as %dx%d where their quadrature error is within %g%% or %g of "
+            "the frame's photon noise (chosen per frame)",
+            m, m, candidates.front(), candidates.front(), 100.0 * t.radiance_quadrature_target,
+            t.radiance_quadrature_noise_share);
     char line[640];
     std::snprintf(line, sizeof line,
                   "trace (%s quality): %dx%d footprint rays a pixel for alpha, %s for radiance; march "

@@ -253,6 +253,8 @@ bake::TraceSettings traceSettingsOf(const ordered_json& metadata) {
     t.radiance_samples_per_axis = s.value("radiance_samples_per_axis", t.radiance_samples_per_axis);
     // And from before the trace chose m per frame (2026-12-07): 0 above meant every ray.
     t.radiance_quadrature_target = s.value("radiance_quadrature_target", 0.0);
+    // And from before the photon noise's share (2026-12-07): the target alone.
+    t.radiance_quadrature_noise_share = s.value("radiance_quadrature_noise_share", 0.0);
     return t;
 }
 

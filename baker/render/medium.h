@@ -103,6 +103,7 @@ class Medium {
 
   private:
     glm::vec2 voxelOrBackground(int i, int j, int k) const;
+    void loadCorners(const glm::ivec3& relative, glm::vec2 (&c)[8]) const;
     void buildBricks();
 
     glm::ivec3 origin_{0};

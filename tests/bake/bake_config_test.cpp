@@ -47,7 +47,8 @@ TEST(BakeConfig, AppliesEveryKey) {
         "axes": {"temperature_threshold": [1, 2], "smoke_extinction": 3, "flame_extinction": [0.5, 1]},
         "trace": {"cell_voxels": 2, "photons_primary": 100, "photons_per_order": 50, "max_orders": 3,
                   "order_tolerance": 0.01, "step_voxels": 0.25, "photon_pilot_share": 0.5,
-                  "min_order_photon_share": 0.5},
+                  "min_order_photon_share": 0.5, "radiance_quadrature_target": 0.002,
+                  "radiance_quadrature_noise_share": 0.5},
         "compression": {"target_relative_error": 0.01, "max_rank": 7}
     })");
     EXPECT_EQ(c.frames, "2-5");
@@ -76,6 +77,8 @@ TEST(BakeConfig, AppliesEveryKey) {
     EXPECT_EQ(c.trace.step_voxels, 0.25);
     EXPECT_EQ(c.trace.photon_pilot_share, 0.5);
     EXPECT_EQ(c.trace.min_order_photon_share, 0.5);
+    EXPECT_EQ(c.trace.radiance_quadrature_target, 0.002);
+    EXPECT_EQ(c.trace.radiance_quadrature_noise_share, 0.5);
     EXPECT_EQ(c.compression.target_relative_error, 0.01);
     EXPECT_EQ(c.compression.max_rank, 7);
 }
@@ -156,6 +159,7 @@ TEST(BakeConfig, ErrorsNameTheFileAndTheProblem) {
     expectError(R"({"trace": {"min_order_photon_share": 0}})", "min_order_photon_share");
     expectError(R"({"trace": {"min_order_photon_share": 2}})", "min_order_photon_share");
     expectError(R"({"trace": {"radiance_samples_per_axis": 9}})", "radiance_samples_per_axis");
+    expectError(R"({"trace": {"radiance_quadrature_noise_share": -1}})", "radiance_quadrature_noise_share");
     expectError(R"({"quality": "best"})", "preview, default or final");
     expectError(R"({"up": "x"})", "up");
     expectError(R"({"camera": [0, 0, 10, 0, 0, 0]})", "camera");

@@ -281,11 +281,13 @@ TEST(BasisTracer, RadianceRaysCanBeFewerThanTheFootprintRays) {
 
 // By default the trace chooses m per frame: it measures the quadrature error of every m that marches
 // at most half the footprint's rays on the check pixels first, and takes the smallest within
-// radiance_quadrature_target. What it then traces is the bake with that m given, bit for bit.
+// radiance_quadrature_target, or within radiance_quadrature_noise_share of the frame's predicted
+// photon noise where that is more. What it then traces is the bake with that m given, bit for bit.
 TEST(BasisTracer, RadianceRaysAreChosenByTheirQuadratureError) {
     TraceSettings settings;
     EXPECT_EQ(settings.radiance_samples_per_axis, 0);
     EXPECT_GT(settings.radiance_quadrature_target, 0.0);
+    EXPECT_GT(settings.radiance_quadrature_noise_share, 0.0);
     EXPECT_EQ(radianceCandidates(settings, 2), std::vector<int>{}) << "1 of 2 would be no footprint at all";
     EXPECT_EQ(radianceCandidates(settings, 3), std::vector<int>{2});
     EXPECT_EQ(radianceCandidates(settings, 4), std::vector<int>{2}) << "3 of 4 saves too few rays";
@@ -297,8 +299,9 @@ TEST(BasisTracer, RadianceRaysAreChosenByTheirQuadratureError) {
     EXPECT_EQ(radianceCandidates(settings, 4), std::vector<int>{}) << "0: every footprint ray";
 
     const ScatteringBox box;
-    const auto trace = [&](int m, double target) {
+    const auto trace = [&](int m, double target, double noise_share = 0.0) {
         TraceSettings t = fastTrace(3);
+        t.radiance_quadrature_noise_share = noise_share;
         t.footprint_step = 0.0;
         t.footprint_samples_per_axis = 4;
         t.radiance_samples_per_axis = m;
@@ -324,6 +327,21 @@ TEST(BasisTracer, RadianceRaysAreChosenByTheirQuadratureError) {
     EXPECT_EQ(tight.radiance_quadrature_error, 0.0);
     ASSERT_EQ(tight.radiance_candidate_errors.size(), 1u);
     EXPECT_EQ(tight.radiance_candidate_errors[0], given.radiance_quadrature_error) << "what the 2x2 rays had";
+    EXPECT_EQ(tight.radiance_quadrature_allowance, 0.5 * given.radiance_quadrature_error);
+
+    // The same target with a share of the photon noise above the 2x2 rays' error: they are taken.
+    // The photons do not depend on the camera's settings, so every trace here predicts one noise.
+    const double noise = tight.predicted_photon_noise;
+    ASSERT_GT(noise, 0.0);
+    const double share = 2.0 * given.radiance_quadrature_error / noise;
+    const FrameBasis by_noise = trace(0, 0.5 * given.radiance_quadrature_error, share);
+    EXPECT_EQ(by_noise.predicted_photon_noise, noise);
+    EXPECT_NEAR(by_noise.radiance_quadrature_allowance, 2.0 * given.radiance_quadrature_error,
+                1e-12 * given.radiance_quadrature_error);
+    EXPECT_EQ(by_noise.radiance_samples, 4);
+    EXPECT_TRUE(by_noise.matrix == given.matrix);
+    // A quarter of that share is below the error again: every ray.
+    EXPECT_EQ(trace(0, 0.5 * given.radiance_quadrature_error, 0.25 * share).radiance_samples, 16);
 }
 
 // A stop asked for while the scattering cells or the light depths are built ends the trace there,
