@@ -148,12 +148,10 @@ ScatterCells buildScatterCells(const render::Medium& medium, const TraceTables& 
         float smoke[kMaxAxisSamples], flame[kMaxAxisSamples];
         std::size_t slab_cubes = 0, slab_smooth = 0;
         forEachCubeInSlab(medium, cz * cells.edge, (cz + 1) * cells.edge,
-                          [&](const glm::ivec3& q, float, float) {
+                          [&](const glm::ivec3& q, const glm::vec2(&corner)[8], float, float) {
                               const glm::ivec3 c = (q - glm::ivec3(cells.origin)) / cells.edge;
                               if (c.x >= cells.count.x || c.y >= cells.count.y) return;
                               double* sums = part_sums.data() + cells.cellIndex(c) * parts;
-                              glm::vec2 corner[8];
-                              medium.cubeCorners(q, corner);
                               const bool smooth = smoothTemperature(corner, tb);
                               ++slab_cubes;
                               slab_smooth += smooth;

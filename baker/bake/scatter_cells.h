@@ -71,9 +71,10 @@ std::size_t scatterSlotUpperBound(const render::Medium& medium, int edge);
 ScatterCells buildScatterCells(const render::Medium& medium, const TraceTables& tables, int edge,
                                const std::function<bool(double)>& progress = {});
 
-// Calls visit(cube_lower_corner, rho, t) for the centre of every unit index cube of the medium's
-// bricks that can hold density, z-slab by z-slab: slabs [z0, z1) of cube layers (relative to the
-// influence box's low corner) may run in parallel; within a slab the order is fixed.
+// Calls visit(cube_lower_corner, corners, rho, t) for every unit index cube of the medium's bricks
+// that holds density, with its eight voxels (Medium::cubeCorners) and the values at its centre,
+// z-slab by z-slab: slabs [z0, z1) of cube layers (relative to the influence box's low corner) may
+// run in parallel; within a slab the order is fixed.
 template <typename Visit>
 void forEachCubeInSlab(const render::Medium& medium, int z0, int z1, Visit&& visit) {
     const glm::ivec3 bricks = medium.brickCounts();
@@ -88,8 +89,10 @@ void forEachCubeInSlab(const render::Medium& medium, int z0, int z1, Visit&& vis
                 for (int y = by * size; y < (by + 1) * size; ++y)
                     for (int x = bx * size; x < (bx + 1) * size; ++x) {
                         const glm::ivec3 q = lo + glm::ivec3(x, y, z);
-                        const render::MediumSample s = medium.sampleIndex(glm::dvec3(q) + 0.5);
-                        if (s.density > 0.0f) visit(q, s.density, s.temperature);
+                        glm::vec2 corners[8];
+                        medium.cubeCorners(q, corners);
+                        const render::MediumSample s = render::Medium::interpolate(corners, glm::vec3(0.5f));
+                        if (s.density > 0.0f) visit(q, corners, s.density, s.temperature);
                     }
             }
     }

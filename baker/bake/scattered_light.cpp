@@ -41,12 +41,13 @@ ScatteredLightTracer::ScatteredLightTracer(const TransportContext& ctx, const Ba
     tbb::parallel_for(0, layers, [&](int layer) {
         double* m = layer_mass.data() + static_cast<size_t>(layer) * (1 + tb.bins);
         const int size = render::Medium::kBrickSize;
-        forEachCubeInSlab(medium, layer * size, (layer + 1) * size, [&](const glm::ivec3&, float rho, float t) {
-            m[0] += rho;
-            int first, last;
-            tb.binWindow(t, first, last);
-            for (int i = first; i < last; ++i) m[1 + i] += rho * tb.rbf(i, t);
-        });
+        forEachCubeInSlab(medium, layer * size, (layer + 1) * size,
+                          [&](const glm::ivec3&, const glm::vec2(&)[8], float rho, float t) {
+                              m[0] += rho;
+                              int first, last;
+                              tb.binWindow(t, first, last);
+                              for (int i = first; i < last; ++i) m[1 + i] += rho * tb.rbf(i, t);
+                          });
     });
     double density_mass = 0.0;
     std::vector<double> bin_mass(tb.bins, 0.0);

@@ -1,6 +1,7 @@
 // A participating medium: dense density and temperature voxels in world space.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
@@ -70,6 +71,18 @@ class Medium {
     // what sampleIndex interpolates between inside that cube. For callers that sample one cube
     // many times (the scattered-light cells' quadrature) and interpolate themselves.
     void cubeCorners(const glm::ivec3& corner, glm::vec2 (&c)[8]) const;
+    // Trilinear interpolation between those corners at f in [0, 1]^3: what sampleIndex returns.
+    static MediumSample interpolate(const glm::vec2 (&c)[8], const glm::vec3& f) {
+        const glm::vec2 x00 = c[0] + (c[1] - c[0]) * f.x;
+        const glm::vec2 x10 = c[2] + (c[3] - c[2]) * f.x;
+        const glm::vec2 x01 = c[4] + (c[5] - c[4]) * f.x;
+        const glm::vec2 x11 = c[6] + (c[7] - c[6]) * f.x;
+        const glm::vec2 y0 = x00 + (x10 - x00) * f.y;
+        const glm::vec2 y1 = x01 + (x11 - x01) * f.y;
+        const glm::vec2 v = y0 + (y1 - y0) * f.z;
+        // Rounding in the differences can leave a tiny negative density next to zeros.
+        return {std::max(v.x, 0.0f), v.y};
+    }
     // The stored voxel at origin + relative (after sanitising), or density 0 and the background
     // temperature outside the stored box: the corners trilinear interpolation reads.
     MediumSample voxel(const glm::ivec3& relative) const {
