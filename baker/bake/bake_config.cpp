@@ -109,17 +109,33 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         }
         if (j.contains("trace")) {
             const json& t = j["trace"];
-            checkKeys(
-                t,
-                {"cell_voxels", "max_cells_per_axis", "max_cell_optical_depth", "light_points_per_axis",
-                 "photons_primary", "photons_per_order", "photon_noise_target", "max_photon_scale",
-                 "photon_pilot_share", "min_order_photon_share", "max_orders", "order_tolerance",
-                 "step_voxels", "footprint_step", "footprint_samples_per_axis", "radiance_samples_per_axis",
-                 "radiance_quadrature_target", "radiance_quadrature_noise_share"},
-                "trace");
+            checkKeys(t,
+                      {"cell_voxels",
+                       "max_cells_per_axis",
+                       "max_cell_optical_depth",
+                       "cell_pixel_footprints",
+                       "min_cells_across",
+                       "light_points_per_axis",
+                       "photons_primary",
+                       "photons_per_order",
+                       "photon_noise_target",
+                       "max_photon_scale",
+                       "photon_pilot_share",
+                       "min_order_photon_share",
+                       "max_orders",
+                       "order_tolerance",
+                       "step_voxels",
+                       "footprint_step",
+                       "footprint_samples_per_axis",
+                       "radiance_samples_per_axis",
+                       "radiance_quadrature_target",
+                       "radiance_quadrature_noise_share"},
+                      "trace");
             c.trace.cell_voxels = t.value("cell_voxels", c.trace.cell_voxels);
             c.trace.max_cells_per_axis = t.value("max_cells_per_axis", c.trace.max_cells_per_axis);
             c.trace.max_cell_optical_depth = t.value("max_cell_optical_depth", c.trace.max_cell_optical_depth);
+            c.trace.cell_pixel_footprints = t.value("cell_pixel_footprints", c.trace.cell_pixel_footprints);
+            c.trace.min_cells_across = t.value("min_cells_across", c.trace.min_cells_across);
             c.trace.light_points_per_axis = t.value("light_points_per_axis", c.trace.light_points_per_axis);
             c.trace.footprint_step = t.value("footprint_step", c.trace.footprint_step);
             c.trace.photons_primary = t.value("photons_primary", c.trace.photons_primary);
@@ -163,6 +179,7 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
         if (j.contains("memory_budget")) c.memory_budget_bytes = parseByteSize(j["memory_budget"].get<std::string>());
         if (c.trace.step_voxels <= 0.0 || c.trace.cell_voxels < 1 || c.trace.photons_primary < 1 ||
             c.trace.max_cells_per_axis < 1 || !(c.trace.max_cell_optical_depth > 0.0) ||
+            !(c.trace.cell_pixel_footprints >= 0.0) || c.trace.min_cells_across < 1 ||
             c.trace.light_points_per_axis < 2 || !(c.trace.footprint_step >= 0.0) ||
             c.trace.photons_per_order < 1 || c.trace.footprint_samples_per_axis < 0 ||
             c.trace.footprint_samples_per_axis > 8 || c.trace.radiance_samples_per_axis < 0 ||
@@ -177,7 +194,8 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
                 "radiance_samples_per_axis 0..8, 0 = from radiance_quadrature_target (>= 0, 0 = every "
                 "footprint ray) and radiance_quadrature_noise_share (>= 0); "
                 "photon_noise_target >= 0, 0 = the photons as given; max_photon_scale 1..64; "
-                "photon_pilot_share and min_order_photon_share in (0, 1])");
+                "photon_pilot_share and min_order_photon_share in (0, 1]; cell_pixel_footprints >= 0, 0 = "
+                "off)");
     } catch (const Error& e) {
         throw Error(e.code(), file.string() + ": " + e.what());
     } catch (const std::exception& e) {  // nlohmann-json's: the file is not the JSON a config is
@@ -300,6 +318,8 @@ std::string configToJson(const BakeConfig& c) {
     j["trace"] = {{"cell_voxels", c.trace.cell_voxels},
                   {"max_cells_per_axis", c.trace.max_cells_per_axis},
                   {"max_cell_optical_depth", c.trace.max_cell_optical_depth},
+                  {"cell_pixel_footprints", c.trace.cell_pixel_footprints},
+                  {"min_cells_across", c.trace.min_cells_across},
                   {"light_points_per_axis", c.trace.light_points_per_axis},
                   {"footprint_step", c.trace.footprint_step},
                   {"photons_primary", c.trace.photons_primary},

@@ -384,6 +384,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         fr.cell_edge_voxels = plan.trace.cell_edge_voxels;
         fr.light_spacing_voxels = plan.trace.light_spacing_voxels;
         fr.cell_optical_depth = plan.trace.cell_optical_depth;
+        fr.pixel_footprint_voxels = plan.trace.pixel_footprint_voxels;
         fr.estimated_peak_bytes = plan.peakBytes();
         fr.columns_traced = static_cast<uint64_t>(model.axes.pointCount()) * model.columnsPerPoint();
         auto t0 = std::chrono::steady_clock::now();

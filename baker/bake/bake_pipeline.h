@@ -66,6 +66,7 @@ struct FrameBakeReport {
     int cell_edge_voxels = 0;
     int light_spacing_voxels = 0;
     double cell_optical_depth = 0.0;
+    double pixel_footprint_voxels = 0.0;  // what the cells were sized against (not kept for resumed frames)
     double setup_seconds = 0.0, light_seconds = 0.0, photon_seconds = 0.0, camera_seconds = 0.0;
     uint64_t estimated_peak_bytes = 0;
     uint64_t active_voxels = 0;

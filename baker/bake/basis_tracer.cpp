@@ -152,6 +152,20 @@ double relativeFrobeniusError(const std::vector<double>& diff2, const std::vecto
     return v > 0.0 ? std::sqrt(d / v) : 0.0;
 }
 
+// The smallest pair of chains the noise target adds, in pilot chains: a prediction just above the
+// target costs at most a quarter more photons than the pilot's. Whole pairs of pilot chains doubled
+// them: frame 12 of the bundled sample upsampled 4x at 128x128 with 6-voxel cells, whose two chains
+// predicted between 1% and 1.12%, traced 4 chains in 20.1 s, and 2.5 chains' photons in 15.0 s. Not
+// smaller, because a chain's passes over whole fields cost the same for any photons: there, about
+// 1.25 s a chain of 7 orders against 8 s for the pilot's photons.
+constexpr double kSmallestChainPair = 0.25;
+
+// The pair is sized for this share of the noise target: the second prediction scatters about
+// 1/sqrt(photons) by a few percent (the accuracy suite's sunlit and dense-0.95 frames, sized for the
+// target itself, predicted 1.02% and 1.06% afterwards, and the bake marked them over it). 0.95 costs
+// about a tenth more photons in the frames that grow.
+constexpr double kPhotonNoiseAim = 0.95;
+
 }  // namespace
 
 int footprintSamplesPerAxis(const TraceSettings& settings, int width, int height) {
@@ -171,6 +185,21 @@ std::vector<int> radianceCandidates(const TraceSettings& settings, int footprint
         return candidates;
     for (int m = 2; 2 * m * m <= footprint_per_axis * footprint_per_axis; ++m) candidates.push_back(m);
     return candidates;
+}
+
+double pixelFootprintVoxels(const render::Medium& medium, const render::Camera& camera) {
+    const glm::dvec3 forward = -glm::normalize(glm::dvec3(camera.worldFromCamera()[2]));
+    const IndexBox box = influenceBox(medium);
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::dvec3 index(corner & 1 ? box.hi.x : box.lo.x, corner & 2 ? box.hi.y : box.lo.y,
+                               corner & 4 ? box.hi.z : box.lo.z);
+        const glm::dvec3 world(medium.indexToWorld() * glm::dvec4(index, 1.0));
+        nearest = std::min(nearest, glm::dot(world - camera.position(), forward));
+    }
+    if (!(nearest > 0.0)) return 0.0;
+    const double pixel_angle = 2.0 * std::tan(0.5 * camera.parameters().yfov_radians) / camera.height();
+    return pixel_angle * nearest / medium.minVoxelEdge();
 }
 
 TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& camera, const BasisModel& model,
@@ -212,6 +241,12 @@ TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& cam
     const double max_k = std::max(model.axes.smoke_extinction.back(), model.axes.flame_extinction.back());
     const double depth_per_voxel = max_k * max_density * medium.minVoxelEdge();
     int edge = scatterCellEdge(medium, settings.cell_voxels, settings.max_cells_per_axis);
+    plan.pixel_footprint_voxels = pixelFootprintVoxels(medium, camera);
+    if (settings.cell_pixel_footprints > 0.0) {
+        const double by_pixels = std::floor(settings.cell_pixel_footprints * plan.pixel_footprint_voxels);
+        const int by_count = longest / std::max(settings.min_cells_across, 1);
+        edge = std::max(edge, static_cast<int>(std::min<double>(by_pixels, by_count)));
+    }
     if (depth_per_voxel * edge > settings.max_cell_optical_depth) {
         const double thin = std::floor(settings.max_cell_optical_depth / depth_per_voxel);
         edge = std::max(settings.cell_voxels, static_cast<int>(std::min<double>(thin, edge)));
@@ -293,29 +328,26 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
         const PhotonNoiseInputs noise_inputs{medium, tb, cells, light_depths, camera, min_step,
                                              settings.footprint_step, scattered.countedColumns()};
         const auto predict = [&] {
-            const double worst =
-                predictPhotonNoise(noise_inputs, scattered.sum(), scattered.signedSum(), scattered.chains(), gate.stopFlag());
+            const double worst = predictPhotonNoise(noise_inputs, scattered.sum(), scattered.signedSum(),
+                                                    scattered.weight(), gate.stopFlag());
             gate.throwIfStopped();
             return worst;
         };
         // Two chains (the pilot: the photons the settings name, or photon_pilot_share of them with a
-        // target), and the first noise prediction. Then as many more as the target asks (noise
-        // falls as 1/sqrt(chains)), up to max_photon_scale times the settings' photons, and the
-        // prediction again for the report.
-        scattered.addChains(2, [&](double done) { gate.checkpoint(0.08 + 0.22 * done); });
+        // target), and the first noise prediction. Then, where the target asks for more, one pair of
+        // chains that makes the photons what it asks (noise falls as 1/sqrt(photons)), up to
+        // max_photon_scale times the settings' photons, and the prediction again for the report.
+        scattered.addChainPair(1.0, [&](double done) { gate.checkpoint(0.08 + 0.22 * done); });
         double noise = predict();
         const double target = settings.photon_noise_target;
-        if (target > 0.0 && noise > target) {
-            const double wanted = 2.0 * (noise / target) * (noise / target);
-            int most = static_cast<int>(std::floor(2.0 * settings.max_photon_scale / scattered.chainShare()));
-            most -= most % 2;
-            // In double until capped: a target far below the noise asks for more chains than an int holds.
-            int chains = static_cast<int>(std::min(std::ceil(wanted), static_cast<double>(most)));
-            chains += chains % 2;  // even keeps the noise sample's expectation zero; most is even too
-            if (chains > 2) {
-                scattered.addChains(chains - 2, [&](double done) { gate.checkpoint(0.3 + 0.28 * done); });
-                noise = predict();
-            }
+        const double most = 2.0 * settings.max_photon_scale / scattered.chainShare();  // in pilot chains
+        if (target > 0.0 && noise > target && most > 2.0) {
+            const double aim = kPhotonNoiseAim * target;
+            const double wanted = 2.0 * (noise / aim) * (noise / aim);
+            const double size =
+                std::min(std::max(kSmallestChainPair, 0.5 * (wanted - 2.0)), 0.5 * (most - 2.0));
+            scattered.addChainPair(size, [&](double done) { gate.checkpoint(0.3 + 0.28 * done); });
+            noise = predict();
         }
         out.photon_chains = scattered.chains();
         out.photon_multiple = scattered.photonMultiple();

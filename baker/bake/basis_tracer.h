@@ -13,11 +13,11 @@
 //   2. Scattering orders: the sigma_s-weighted mean radiance Lbar of each order is estimated on
 //      coarse cells (scatter_cells.h) with a track-length estimator (photon_pass.h); the next
 //      order's source is sigma_s * Lbar. Independent chains of orders (scattered_light.h) predict
-//      their own photon noise in the image (photon_noise.h); chains are added until it meets
-//      TraceSettings::photon_noise_target. Orders are added until, for every column on its own, the
-//      geometric tail of the orders left is within `order_tolerance` of that column's scattered
-//      power, and that tail is added (order_series.h). The weighting makes each cell's scattered
-//      power exact whatever its size, so cells follow the world extent (a cap per axis), not the
+//      their own photon noise in the image (photon_noise.h); a pair of chains of the size it asks
+//      for is added where it does not meet TraceSettings::photon_noise_target. Orders are added until, for
+//      every column on its own, the geometric tail of the orders left is within `order_tolerance` of that
+//      column's scattered power, and that tail is added (order_series.h). The weighting makes each cell's
+//      scattered power exact whatever its size, so cells follow the world extent (a cap per axis), not the
 //      voxel count.
 //   3. Camera rays march the exact fine-resolution medium and integrate
 //      tau * (Q0 + sigma_s * sum of Lbar) for every grid point and column; the
@@ -82,6 +82,21 @@ struct TraceSettings {
     // 0.3..0.5 split), against -0.12% with every cell split. Where fine cells meet coarse ones the
     // coarse cells' errors in transport and in what the camera sees no longer cancel.
     double max_cell_optical_depth = 1.0;
+    // Cells need not be finer than the image resolves: where the pixels are coarser than the voxels,
+    // cells are at least this many pixel footprints wide (at the influence box's corner nearest the
+    // camera, pixelFootprintVoxels()), as long as min_cells_across of them still span the box's
+    // longest axis; before the optical-depth rule above, which may make them finer again. 0: off.
+    // 3.5 and 32 because that is how coarse the cells are that the accuracy suite measured within
+    // issue 27's bars: the bundled sample's frames at 128x128 have 2-voxel cells of 3.2-3.5 footprints
+    // (0.58-0.64 voxel a pixel), 25-37 of them across (frame 3's bias above came with 15). So neither
+    // the sample nor samples/data/smoke changes at any size, and a frame whose voxels are finer than
+    // its pixels gets cells of that world size: frame 12 upsampled 4x at 128x128 (2.3 voxels a
+    // pixel) 8-voxel cells, 36 across, the sample's own world size, instead of 6-voxel ones (48,
+    // max_cells_per_axis): photon passes 7.4 s against 20.1 s (2 photon chains against 4; the
+    // predicted photon noise 0.89% against 0.70%), noise-corrected error of 3 looks against a
+    // 272-spp judge 0.56% / 0.60% (median / worst) against 0.51% / 0.60%.
+    double cell_pixel_footprints = 3.5;
+    int min_cells_across = 32;
     // At most this many light-depth lattice points along any axis (shadow resolution of the
     // single-scattered light): 128 keeps the sample at one point per voxel.
     int light_points_per_axis = 128;
@@ -91,8 +106,9 @@ struct TraceSettings {
     int photons_primary = 131072;
     int photons_per_order = 65536;
     // The photon noise each column's image may have, as a relative RMSE predicted from the chains
-    // (photon_noise.h): when the first two chains predict more for any column, the tracer adds
-    // chains until the prediction meets it, up to max_photon_scale times the photons above. 0 keeps
+    // (photon_noise.h): when the first two chains predict more for any column, the tracer adds a
+    // pair of chains that brings the photons to what the prediction asks for 0.95 of it (at least a
+    // quarter of the pilot's more), up to max_photon_scale times the photons above. 0 keeps
     // the photons as given. 0.01 because a look mixes columns and the worst look of issue 27's bars
     // may have 1.5% error in all: measured on the regimes of scripts/bench/accuracy.sh (64x64,
     // predictions of two chains at these photons), the emission frames' worst columns are 0.3-0.5%
@@ -191,6 +207,7 @@ struct TracePlan {
     int cell_edge_voxels = 0;
     std::size_t cell_slots = 0;     // an upper bound (cells touched by non-empty bricks)
     int light_spacing_voxels = 0;
+    double pixel_footprint_voxels = 0.0;  // pixelFootprintVoxels()
     // Optical depth across one cell at the densest voxel and the largest extinction on the axes.
     double cell_optical_depth = 0.0;
     std::size_t basis_bytes = 0;    // the pixels x columns matrix
@@ -216,6 +233,11 @@ int radianceSamplesPerAxis(const TraceSettings& settings, int footprint_per_axis
 // The m the trace measures before its camera pass and may choose instead of n, smallest first (empty
 // where m is given or radiance_quadrature_target is 0).
 std::vector<int> radianceCandidates(const TraceSettings& settings, int footprint_per_axis);
+
+// The width of a pixel's footprint at the corner of the medium's influence box nearest the camera
+// (the smallest any pixel has on the box), in the medium's smallest voxel edge; 0 where that corner
+// is not in front of the camera.
+double pixelFootprintVoxels(const render::Medium& medium, const render::Camera& camera);
 
 TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& camera, const BasisModel& model,
                          const TraceSettings& settings);

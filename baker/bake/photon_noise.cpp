@@ -15,14 +15,14 @@ constexpr double kNegligibleColumn = 1e-6;
 }  // namespace
 
 double predictPhotonNoise(const PhotonNoiseInputs& in, const std::vector<float>& lbar,
-                               const std::vector<float>& noise, int chains, const std::atomic<bool>& stop) {
+                          const std::vector<float>& noise, double weight, const std::atomic<bool>& stop) {
     const TraceTables& tb = in.tables;
     const int G = tb.points, C = tb.columns;
     const std::size_t GC = static_cast<std::size_t>(G) * C;
     const int width = in.camera.width(), height = in.camera.height();
     const int stride = std::max(1, (std::max(width, height) + kPhotonNoisePixelsPerAxis - 1) / kPhotonNoisePixelsPerAxis);
     const int cols = (width + stride - 1) / stride, rows = (height + stride - 1) / stride;
-    const float inv_chains = 1.0f / static_cast<float>(std::max(chains, 1));
+    const float inv_weight = weight > 0.0 ? static_cast<float>(1.0 / weight) : 1.0f;
     // Per coarse row, then summed in row order: the same prediction with any number of threads.
     std::vector<double> value2(static_cast<std::size_t>(rows) * GC, 0.0), noise2(value2.size(), 0.0);
     tbb::parallel_for(0, rows, [&](int r) {
@@ -44,8 +44,8 @@ double predictPhotonNoise(const PhotonNoiseInputs& in, const std::vector<float>&
             ray_march.contract(lbar, scattered.data());
             ray_march.contract(noise, noisy.data());
             for (std::size_t i = 0; i < GC; ++i) {
-                const double v = direct[i] + inv_chains * scattered[i];
-                const double n = inv_chains * noisy[i];
+                const double v = direct[i] + inv_weight * scattered[i];
+                const double n = inv_weight * noisy[i];
                 v2[i] += v * v;
                 n2[i] += n * n;
             }

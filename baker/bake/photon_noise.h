@@ -35,11 +35,11 @@ struct PhotonNoiseInputs {
     int counted;
 };
 
-// The largest column prediction (0 when no column has light). `lbar` and `noise` are sums over
-// `chains` chains (ScatteredLightTracer::sum() and signedSum()). Stops early, returning what it
-// has, when `stop` is set.
+// The largest column prediction (0 when no column has light). `lbar` and `noise` are the chains'
+// weighted sums and their total weight (ScatteredLightTracer::sum(), signedSum() and weight()).
+// Stops early, returning what it has, when `stop` is set.
 double predictPhotonNoise(const PhotonNoiseInputs& in, const std::vector<float>& lbar,
-                               const std::vector<float>& noise, int chains, const std::atomic<bool>& stop);
+                          const std::vector<float>& noise, double weight, const std::atomic<bool>& stop);
 
 // Pixels along each axis of the coarse grid at most: 64 costs about 1/64 of the camera stage of a
 // 128x128 bake (16 rays per pixel there) and holds a few thousand pixels, enough to average over

@@ -69,16 +69,18 @@ ScatteredLightTracer::ScatteredLightTracer(const TransportContext& ctx, const Ba
     density_sampler_ = std::make_unique<PhotonStartSampler>(medium, [](float rho, float) { return double(rho); });
 }
 
-void ScatteredLightTracer::addChains(int count, const std::function<void(double)>& progress) {
-    for (int i = 0; i < count; ++i)
-        traceChain(chains_, [&](double done) { progress((i + done) / count); });
+void ScatteredLightTracer::addChainPair(double size, const std::function<void(double)>& progress) {
+    for (int i = 0; i < 2; ++i) traceChain(chains_, size, [&](double done) { progress((i + done) / 2); });
 }
 
-void ScatteredLightTracer::traceChain(int chain, const std::function<void(double)>& progress) {
+void ScatteredLightTracer::traceChain(int chain, double size, const std::function<void(double)>& progress) {
     const TraceTables& tb = ctx_.tables;
     const int G = tb.points, C = tb.columns;
     const std::uint64_t seed = chainSeed(settings_.seed, chain);
-    const float sign = chain % 2 == 0 ? 1.0f : -1.0f;
+    const float weight = static_cast<float>(size);
+    const float signed_weight = chain % 2 == 0 ? weight : -weight;
+    const int photons_primary = std::max(1, static_cast<int>(std::lround(size * photons_primary_)));
+    const double photons_per_order = size * photons_per_order_;
     const std::size_t row = static_cast<std::size_t>(G) * C;
     // Element by element, so on both cores in any split (same bytes): whole fields, once an order.
     const auto add = [&](const std::vector<float>& field, const float* factor) {
@@ -87,16 +89,17 @@ void ScatteredLightTracer::traceChain(int chain, const std::function<void(double
                               for (std::size_t r = slots.begin() * row; r < slots.end() * row; r += row)
                                   for (std::size_t j = 0; j < row; ++j) {
                                       const float v = factor ? factor[j] * field[r + j] : field[r + j];
-                                      sum_[r + j] += v;
-                                      signed_sum_[r + j] += sign * v;
+                                      sum_[r + j] += weight * v;
+                                      signed_sum_[r + j] += signed_weight * v;
                                   }
                           });
     };
-    std::vector<float> order = photonPass(ctx_, SourceKind::Emission, *emission_sampler_, nullptr, photons_primary_, seed, buffers_);
+    std::vector<float> order =
+        photonPass(ctx_, SourceKind::Emission, *emission_sampler_, nullptr, photons_primary, seed, buffers_);
     progress(0.1);
     if (tb.lights > 0) {
         std::vector<float> light = photonPass(ctx_, SourceKind::LightScatter, *density_sampler_, nullptr,
-                                              photons_primary_, seed + 1, buffers_);
+                                              photons_primary, seed + 1, buffers_);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1 << 16),
                           [&](const tbb::blocked_range<std::size_t>& r) {
                               for (std::size_t i = r.begin(); i != r.end(); ++i) order[i] += light[i];
@@ -109,9 +112,9 @@ void ScatteredLightTracer::traceChain(int chain, const std::function<void(double
     progress(0.2);
     for (int k = 2; k <= settings_.max_orders; ++k) {
         const double share = std::clamp(series.nextOrderShare(), settings_.min_order_photon_share, 1.0);
-        const int photons = std::max(1, static_cast<int>(std::lround(share * photons_per_order_)));
+        const int photons = std::max(1, static_cast<int>(std::lround(share * photons_per_order)));
         order_photons_ += photons;
-        order_photons_equal_ += photons_per_order_;
+        order_photons_equal_ += std::lround(photons_per_order);
         std::vector<float> next = photonPass(ctx_, SourceKind::Scattered, *density_sampler_, &order, photons,
                                              seed + 16 * k, buffers_);
         buffers_.spare = std::move(order);
@@ -125,13 +128,14 @@ void ScatteredLightTracer::traceChain(int chain, const std::function<void(double
     const std::vector<float> tail = series.tailFactors();
     add(order, tail.data());
     ++chains_;
+    weight_ += size;
     orders_ = std::max(orders_, series.orders());
     last_order_fraction_ = std::max(last_order_fraction_, series.lastOrderFraction());
     tail_fraction_ = std::max(tail_fraction_, series.tailFraction());
 }
 
 std::vector<float> ScatteredLightTracer::estimate() && {
-    const float inv = 1.0f / static_cast<float>(std::max(chains_, 1));
+    const float inv = weight_ > 0.0 ? static_cast<float>(1.0 / weight_) : 1.0f;
     for (float& v : sum_) v *= inv;
     std::vector<float>().swap(signed_sum_);
     buffers_ = {};

@@ -3,12 +3,15 @@
 //
 // A chain is one complete estimate: the primary passes (emission, the lights' single scattering),
 // then one pass per further order from the previous order's field, until its OrderSeries converges,
-// then the geometric tail. Chains use disjoint seeds, so they are independent and identically
-// distributed; the mean of k chains is the estimate, and their alternating-sign mean
-// (A1 - A2 + A3 - ... ) / k has zero expectation and exactly the covariance of that estimate's
-// photon noise, including the noise each order hands on to the next. photon_noise.h carries it
-// through the camera to predict each column's image noise, and the tracer adds chains until that
-// prediction meets TraceSettings::photon_noise_target.
+// then the geometric tail. Chains use disjoint seeds, so they are independent; a chain of size w
+// (its photons as a multiple of a pilot chain's) has the covariance of a pilot chain over w. The
+// estimate is the chains' mean weighted by size, E = sum w_i A_i / W (W = sum w_i), and their signed
+// mean S = sum s_i w_i A_i / W, with signs s_i = +-1 such that sum s_i w_i = 0, has zero expectation
+// and exactly E's photon noise covariance (both are sum w_i^2 Cov(A_i) / W^2 = Cov(A_1) / W),
+// including the noise each order hands on to the next. Chains come in pairs of one size with
+// opposite signs, which keeps sum s_i w_i = 0. photon_noise.h carries S through the camera to
+// predict each column's image noise; the tracer adds one pair of chains of the size that prediction
+// asks for to meet TraceSettings::photon_noise_target.
 #pragma once
 
 #include <functional>
@@ -27,20 +30,23 @@ class ScatteredLightTracer {
     // what those settings name; times photon_pilot_share when there is a noise target.
     ScatteredLightTracer(const TransportContext& ctx, const BasisModel& model, const TraceSettings& settings);
 
-    // Traces `count` more chains (keep the total even: the noise field's expectation is zero only
-    // for as many + as - chains). progress(done) gets the share of these chains done; it may throw
-    // to cancel (a cancelled trace leaves the fields meaningless).
-    void addChains(int count, const std::function<void(double)>& progress);
+    // Traces two more chains of `size` pilot chains' photons each (size > 0), a + and a - one.
+    // progress(done) gets the share of the pair done; it may throw to cancel (a cancelled trace
+    // leaves the fields meaningless).
+    void addChainPair(double size, const std::function<void(double)>& progress);
 
     int chains() const { return chains_; }
-    // The photons of one chain as a share of half the settings' photons (1, or photon_pilot_share).
+    // The photons of a pilot chain as a share of half the settings' photons (1, or photon_pilot_share).
     double chainShare() const { return chain_share_; }
+    // The chains' sizes summed (W above): the photons traced, in pilot chains.
+    double weight() const { return weight_; }
     // Photons traced so far / the photons the settings name.
-    double photonMultiple() const { return 0.5 * chain_share_ * chains_; }
-    // Sums over the chains: divide by chains() for the estimate and its noise sample.
+    double photonMultiple() const { return 0.5 * chain_share_ * weight_; }
+    // The chains' sums weighted by size, plain and signed: divided by weight(), the estimate and
+    // its noise sample.
     const std::vector<float>& sum() const { return sum_; }
     const std::vector<float>& signedSum() const { return signed_sum_; }
-    // Ends the tracing: the mean of the chains (the sum divided by their count), moved out.
+    // Ends the tracing: the chains' weighted mean, moved out.
     std::vector<float> estimate() &&;
 
     // Columns 0..counted-1 of each grid point decide the orders and the photon budget; six-way or
@@ -57,7 +63,7 @@ class ScatteredLightTracer {
     }
 
   private:
-    void traceChain(int chain, const std::function<void(double)>& progress);
+    void traceChain(int chain, double size, const std::function<void(double)>& progress);
 
     const TransportContext& ctx_;
     const TraceSettings& settings_;
@@ -69,6 +75,7 @@ class ScatteredLightTracer {
     std::vector<float> sum_, signed_sum_;
     PhotonPassBuffers buffers_;  // the photon passes' accumulation buffers, zero between passes
     int chains_ = 0;
+    double weight_ = 0.0;
     int orders_ = 0;
     double last_order_fraction_ = 0.0, tail_fraction_ = 0.0;
     long long order_photons_ = 0, order_photons_equal_ = 0;

@@ -64,6 +64,7 @@ void writeReportJson(const std::string& path, const std::string& sequence, const
              {"cell_edge_voxels", f.cell_edge_voxels},
              {"light_spacing_voxels", f.light_spacing_voxels},
              {"cell_optical_depth", f.cell_optical_depth},
+             {"pixel_footprint_voxels", f.pixel_footprint_voxels},
              {"estimated_peak_mib", f.estimated_peak_bytes / 1048576.0},
              {"columns_traced", f.columns_traced},
              {"predicted_relative_error", std::hypot(f.truncation_error, f.quantisation_error)}});

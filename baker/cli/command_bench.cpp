@@ -237,6 +237,9 @@ bake::TraceSettings traceSettingsOf(const ordered_json& metadata) {
     t.cell_voxels = s.at("cell_voxels");
     t.max_cells_per_axis = s.value("max_cells_per_axis", t.max_cells_per_axis);
     t.max_cell_optical_depth = s.value("max_cell_optical_depth", t.max_cell_optical_depth);
+    // Packages from before the cells followed the pixels (2026-12-07): the count and depth alone.
+    t.cell_pixel_footprints = s.value("cell_pixel_footprints", 0.0);
+    t.min_cells_across = s.value("min_cells_across", t.min_cells_across);
     t.light_points_per_axis = s.value("light_points_per_axis", t.light_points_per_axis);
     t.footprint_step = s.value("footprint_step", t.footprint_step);
     t.photons_primary = s.at("photons_primary");

@@ -48,7 +48,7 @@ TEST(BakeConfig, AppliesEveryKey) {
         "trace": {"cell_voxels": 2, "photons_primary": 100, "photons_per_order": 50, "max_orders": 3,
                   "order_tolerance": 0.01, "step_voxels": 0.25, "photon_pilot_share": 0.5,
                   "min_order_photon_share": 0.5, "radiance_quadrature_target": 0.002,
-                  "radiance_quadrature_noise_share": 0.5},
+                  "radiance_quadrature_noise_share": 0.5, "cell_pixel_footprints": 2.5, "min_cells_across": 20},
         "compression": {"target_relative_error": 0.01, "max_rank": 7}
     })");
     EXPECT_EQ(c.frames, "2-5");
@@ -79,6 +79,8 @@ TEST(BakeConfig, AppliesEveryKey) {
     EXPECT_EQ(c.trace.min_order_photon_share, 0.5);
     EXPECT_EQ(c.trace.radiance_quadrature_target, 0.002);
     EXPECT_EQ(c.trace.radiance_quadrature_noise_share, 0.5);
+    EXPECT_EQ(c.trace.cell_pixel_footprints, 2.5);
+    EXPECT_EQ(c.trace.min_cells_across, 20);
     EXPECT_EQ(c.compression.target_relative_error, 0.01);
     EXPECT_EQ(c.compression.max_rank, 7);
 }
@@ -160,6 +162,8 @@ TEST(BakeConfig, ErrorsNameTheFileAndTheProblem) {
     expectError(R"({"trace": {"min_order_photon_share": 2}})", "min_order_photon_share");
     expectError(R"({"trace": {"radiance_samples_per_axis": 9}})", "radiance_samples_per_axis");
     expectError(R"({"trace": {"radiance_quadrature_noise_share": -1}})", "radiance_quadrature_noise_share");
+    expectError(R"({"trace": {"cell_pixel_footprints": -1}})", "cell_pixel_footprints");
+    expectError(R"({"trace": {"min_cells_across": 0}})", "trace");
     expectError(R"({"quality": "best"})", "preview, default or final");
     expectError(R"({"up": "x"})", "up");
     expectError(R"({"camera": [0, 0, 10, 0, 0, 0]})", "camera");
