@@ -161,9 +161,9 @@ double relativeFrobeniusError(const std::vector<double>& diff2, const std::vecto
 constexpr double kSmallestChainPair = 0.25;
 
 // The pair is sized for this share of the noise target: the second prediction scatters about
-// 1/sqrt(photons) by a few percent (the accuracy suite's sunlit and dense-0.95 frames, sized for the
-// target itself, predicted 1.02% and 1.06% afterwards, and the bake marked them over it). 0.95 costs
-// about a tenth more photons in the frames that grow.
+// 1/sqrt(photons) by a few percent (the accuracy suite's sunlit frame, its pair sized for the target
+// itself, predicted 1.02% afterwards, and the bake marked it over the target; 0.99% with 0.95). 0.95
+// costs about a tenth more photons in the frames that grow.
 constexpr double kPhotonNoiseAim = 0.95;
 
 }  // namespace
