@@ -189,17 +189,11 @@ std::vector<int> radianceCandidates(const TraceSettings& settings, int footprint
 
 double pixelFootprintVoxels(const render::Medium& medium, const render::Camera& camera) {
     const glm::dvec3 forward = -glm::normalize(glm::dvec3(camera.worldFromCamera()[2]));
-    const IndexBox box = influenceBox(medium);
     double nearest = std::numeric_limits<double>::infinity();
-    for (int corner = 0; corner < 8; ++corner) {
-        const glm::dvec3 index(corner & 1 ? box.hi.x : box.lo.x, corner & 2 ? box.hi.y : box.lo.y,
-                               corner & 4 ? box.hi.z : box.lo.z);
-        const glm::dvec3 world(medium.indexToWorld() * glm::dvec4(index, 1.0));
-        nearest = std::min(nearest, glm::dot(world - camera.position(), forward));
-    }
+    for (const glm::dvec3& corner : medium.worldCorners())
+        nearest = std::min(nearest, glm::dot(corner - camera.position(), forward));
     if (!(nearest > 0.0)) return 0.0;
-    const double pixel_angle = 2.0 * std::tan(0.5 * camera.parameters().yfov_radians) / camera.height();
-    return pixel_angle * nearest / medium.minVoxelEdge();
+    return camera.pixelAngle() * nearest / medium.minVoxelEdge();
 }
 
 TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& camera, const BasisModel& model,

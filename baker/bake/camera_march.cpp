@@ -16,7 +16,7 @@ CameraMarch::CameraMarch(const render::Medium& medium, const TraceTables& tables
       box_(influenceBox(medium)),
       min_step_(min_step),
       footprint_step_(footprint_step),
-      pixel_angle_(2.0 * std::tan(0.5 * camera.parameters().yfov_radians) / camera.height()),
+      pixel_angle_(camera.pixelAngle()),
       scattering_(scattering),
       tau_(tables.points),
       tau_next_(tables.points),

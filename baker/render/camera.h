@@ -49,6 +49,8 @@ class Camera {
     glm::dmat4 worldFromCamera() const;
     int width() const { return parameters_.width; }
     int height() const { return parameters_.height; }
+    // The height of a pixel's footprint per unit distance along the view (at the image's centre).
+    double pixelAngle() const { return 2.0 * tan_half_fov_y_ / parameters_.height; }
     const glm::dvec3& position() const { return position_; }
 
   private:

@@ -149,15 +149,22 @@ WorldBox Medium::worldBounds() const {
     }
     WorldBox box{glm::dvec3(std::numeric_limits<double>::infinity()),
                  glm::dvec3(-std::numeric_limits<double>::infinity())};
-    const glm::dvec3 lo = glm::dvec3(origin_) - 1.0;
-    const glm::dvec3 hi = glm::dvec3(origin_ + dims_);
-    for (int n = 0; n < 8; ++n) {
-        const glm::dvec3 corner((n & 1) ? hi.x : lo.x, (n & 2) ? hi.y : lo.y, (n & 4) ? hi.z : lo.z);
-        const glm::dvec3 w(index_to_world_ * glm::dvec4(corner, 1.0));
+    for (const glm::dvec3& w : worldCorners()) {
         box.min = glm::min(box.min, w);
         box.max = glm::max(box.max, w);
     }
     return box;
+}
+
+std::array<glm::dvec3, 8> Medium::worldCorners() const {
+    const glm::dvec3 lo = glm::dvec3(origin_) - 1.0;
+    const glm::dvec3 hi = glm::dvec3(origin_ + dims_);
+    std::array<glm::dvec3, 8> corners;
+    for (int n = 0; n < 8; ++n) {
+        const glm::dvec3 corner((n & 1) ? hi.x : lo.x, (n & 2) ? hi.y : lo.y, (n & 4) ? hi.z : lo.z);
+        corners[n] = glm::dvec3(index_to_world_ * glm::dvec4(corner, 1.0));
+    }
+    return corners;
 }
 
 double Medium::minVoxelEdge() const {

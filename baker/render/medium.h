@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
@@ -97,8 +98,10 @@ class Medium {
     float backgroundTemperature() const { return background_temperature_; }
     const glm::dmat4& indexToWorld() const { return index_to_world_; }
     const glm::dmat4& worldToIndex() const { return world_to_index_; }
-    // World-space bounds of where the interpolated density can be non-zero.
+    // World-space bounds of where the interpolated density can be non-zero, and the eight corners
+    // of that index box in world space (the bounds' corners where the grid is not axis-aligned).
     WorldBox worldBounds() const;
+    std::array<glm::dvec3, 8> worldCorners() const;
     // Shortest world length of one voxel edge.
     double minVoxelEdge() const;
     std::uint64_t sanitizedValues() const { return sanitized_values_; }
