@@ -129,7 +129,9 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
                        "footprint_samples_per_axis",
                        "radiance_samples_per_axis",
                        "radiance_quadrature_target",
-                       "radiance_quadrature_noise_share"},
+                       "radiance_quadrature_noise_share",
+                       "max_step_scale",
+                       "step_alpha_target"},
                       "trace");
             c.trace.cell_voxels = t.value("cell_voxels", c.trace.cell_voxels);
             c.trace.max_cells_per_axis = t.value("max_cells_per_axis", c.trace.max_cells_per_axis);
@@ -153,6 +155,8 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
                 t.value("radiance_quadrature_target", c.trace.radiance_quadrature_target);
             c.trace.radiance_quadrature_noise_share =
                 t.value("radiance_quadrature_noise_share", c.trace.radiance_quadrature_noise_share);
+            c.trace.max_step_scale = t.value("max_step_scale", c.trace.max_step_scale);
+            c.trace.step_alpha_target = t.value("step_alpha_target", c.trace.step_alpha_target);
         }
         if (j.contains("compression")) {
             const json& t = j["compression"];
@@ -184,7 +188,8 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             c.trace.photons_per_order < 1 || c.trace.footprint_samples_per_axis < 0 ||
             c.trace.footprint_samples_per_axis > 8 || c.trace.radiance_samples_per_axis < 0 ||
             c.trace.radiance_samples_per_axis > 8 || !(c.trace.radiance_quadrature_target >= 0.0) ||
-            !(c.trace.radiance_quadrature_noise_share >= 0.0) || !(c.trace.photon_noise_target >= 0.0) ||
+            !(c.trace.radiance_quadrature_noise_share >= 0.0) || c.trace.max_step_scale < 1 ||
+            c.trace.max_step_scale > 16 || !(c.trace.step_alpha_target >= 0.0) || !(c.trace.photon_noise_target >= 0.0) ||
             c.trace.max_photon_scale < 1 || c.trace.max_photon_scale > 64 ||
             !(c.trace.photon_pilot_share > 0.0 && c.trace.photon_pilot_share <= 1.0) ||
             !(c.trace.min_order_photon_share > 0.0 && c.trace.min_order_photon_share <= 1.0))
@@ -195,7 +200,7 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
                 "footprint ray) and radiance_quadrature_noise_share (>= 0); "
                 "photon_noise_target >= 0, 0 = the photons as given; max_photon_scale 1..64; "
                 "photon_pilot_share and min_order_photon_share in (0, 1]; cell_pixel_footprints >= 0, 0 = "
-                "off)");
+                "off; max_step_scale 1..16, 1 = step_voxels always; step_alpha_target >= 0)");
     } catch (const Error& e) {
         throw Error(e.code(), file.string() + ": " + e.what());
     } catch (const std::exception& e) {  // nlohmann-json's: the file is not the JSON a config is
@@ -252,6 +257,7 @@ TraceSettings qualityTrace(const std::string& quality) {
     if (quality == "final") {
         t.step_voxels = 0.125;
         t.radiance_quadrature_target = 0.0;  // every footprint ray carries radiance
+        t.max_step_scale = 1;                // at the fine step
         t.photon_noise_target = 0.005;
         t.max_photon_scale = 8;
         t.order_tolerance = 0.001;
@@ -334,7 +340,9 @@ std::string configToJson(const BakeConfig& c) {
                   {"footprint_samples_per_axis", c.trace.footprint_samples_per_axis},
                   {"radiance_samples_per_axis", c.trace.radiance_samples_per_axis},
                   {"radiance_quadrature_target", c.trace.radiance_quadrature_target},
-                  {"radiance_quadrature_noise_share", c.trace.radiance_quadrature_noise_share}};
+                  {"radiance_quadrature_noise_share", c.trace.radiance_quadrature_noise_share},
+                  {"max_step_scale", c.trace.max_step_scale},
+                  {"step_alpha_target", c.trace.step_alpha_target}};
     j["compression"] = {{"target_relative_error", c.compression.target_relative_error},
                         {"max_rank", c.compression.max_rank},
                         {"alpha_error", c.storage.alpha_error},

@@ -165,6 +165,7 @@ nlohmann::ordered_json errorsEntry(const FrameBakeReport& fr) {
         {"radiance_quadrature_error", fr.radiance_quadrature_error},
         {"radiance_rays_per_axis", fr.radiance_rays_per_axis},
         {"footprint_rays_per_axis", fr.footprint_rays_per_axis},
+        {"camera_step_voxels", fr.camera_step_voxels},
         {"predicted_look_error", fr.predictedLookError()}};
     if (fr.has_target) entry["storage_target"] = storageTargetEntry(fr);
     return entry;
@@ -194,6 +195,7 @@ FrameBakeReport reportFromMetadata(int frame, const FrameMetadata& kept) {
     fr.radiance_quadrature_error = e.value("radiance_quadrature_error", 0.0);  // before 2026-12-06's radiance rays
     fr.radiance_rays_per_axis = e.value("radiance_rays_per_axis", 0);  // before 2026-12-07: not recorded
     fr.footprint_rays_per_axis = e.value("footprint_rays_per_axis", 0);
+    fr.camera_step_voxels = e.value("camera_step_voxels", 0.0);  // before 2026-12-08: not recorded
     // Before the pilot chains (2026-12-06) every chain held half the settings' photons.
     fr.photon_multiple = e.value("photon_multiple", 0.5 * fr.photon_chains);
     fr.order_photon_share = e.value("order_photon_share", 1.0);  // before 2026-12-06 every order had its photons
@@ -401,9 +403,8 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         fr.radiance_rays_per_axis = static_cast<int>(std::lround(std::sqrt(traced.radiance_samples)));
         fr.footprint_rays_per_axis = static_cast<int>(std::lround(std::sqrt(traced.footprint_samples)));
         fr.radiance_quadrature_allowance = traced.radiance_quadrature_allowance;
-        for (std::size_t k = 0; k < traced.radiance_candidate_rays.size(); ++k)
-            fr.radiance_candidates.emplace_back(traced.radiance_candidate_rays[k],
-                                                traced.radiance_candidate_errors[k]);
+        fr.quadrature_candidates = traced.quadrature_candidates;
+        fr.camera_step_voxels = traced.camera_step_voxels;
         fr.setup_seconds = traced.seconds_setup;
         fr.light_seconds = traced.seconds_light;
         fr.photon_seconds = traced.seconds_photons;

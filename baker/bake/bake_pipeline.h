@@ -46,9 +46,12 @@ struct FrameBakeReport {
     // The m of the m x m radiance rays a pixel the frame was traced with, and the n of its footprint
     // rays (TraceSettings::radiance_quadrature_target chooses m per frame).
     int radiance_rays_per_axis = 0, footprint_rays_per_axis = 0;
-    // Each m the trace measured before choosing, with its quadrature error, and the error it allowed
-    // (FrameBasis::radiance_quadrature_allowance; --report only).
-    std::vector<std::pair<int, double>> radiance_candidates;
+    // The camera rays' smallest step, in voxels (FrameBasis::camera_step_voxels; 0 in packages from
+    // before it was recorded).
+    double camera_step_voxels = 0.0;
+    // Each choice of radiance rays and step the trace measured, and the error it allowed
+    // (FrameBasis::quadrature_candidates and radiance_quadrature_allowance; --report only).
+    std::vector<QuadratureCandidate> quadrature_candidates;
     double radiance_quadrature_allowance = 0.0;
     // What the bake predicts for a look's relative RMSE: the SVD and storage error, the photon noise
     // (its worst column's) and the quadrature error together in quadrature. A guide, not a bound:

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "bake/camera_march.h"
+#include "bake/camera_quadrature.h"
 #include "bake/index_ray.h"
 #include "bake/light_depth_field.h"
 #include "bake/photon_noise.h"
@@ -81,77 +82,6 @@ void validateModel(const BasisModel& model) {
                         " (" + std::to_string(model.axes.flame_extinction.size()) + ")");
 }
 
-// Every this-many pixels along each axis, one checks the radiance rays' quadrature against all the
-// footprint rays (1/16 of the pixels: about 1/16 more camera time at 128x128).
-constexpr int kQuadratureCheckStride = 4;
-
-// What a look sees of one pixel's quadrature error, per grid point: the emission bins summed and each
-// light's column alone. A look's coefficients vary smoothly over the bins, and a footprint's error
-// moves light between neighbouring bins, so bin by bin it is several times larger than any look's:
-// frame 3 of the bundled sample at 128x128 with 3 of 4 rays, 2.2% over every column against 0.28%
-// over the summed bins (frame 12 with 2 of 4: 0.62% over every column, median column 4.4%, worst
-// 12.7%, its default look 0.22% against 8x8 rays). diff2 += the squared differences, value2 += the
-// squares of the fine row.
-void quadratureCheck(const float* row, const float* fine, int points, int columns, int bins, double& diff2,
-                     double& value2) {
-    for (int g = 0; g < points; ++g) {
-        const float* r = row + static_cast<std::size_t>(g) * columns;
-        const float* f = fine + static_cast<std::size_t>(g) * columns;
-        double emission_row = 0.0, emission_fine = 0.0;
-        for (int c = 0; c < bins; ++c) {
-            emission_row += r[c];
-            emission_fine += f[c];
-        }
-        diff2 += (emission_row - emission_fine) * (emission_row - emission_fine);
-        value2 += emission_fine * emission_fine;
-        for (int c = bins; c < columns; ++c) {
-            diff2 += (double(r[c]) - f[c]) * (double(r[c]) - f[c]);
-            value2 += double(f[c]) * f[c];
-        }
-    }
-}
-
-// The phase of a camera ray's first step (march()), in (0, 1]: a fixed pseudo-random number per
-// pixel and ray index, so the image does not depend on the threads, the optical depths not on the
-// photons' seed, and a pixel's m x m radiance rays are what n = m footprint rays would march.
-double cameraRayPhase(std::size_t pixel, int ray) {
-    // "cameraph" in ASCII: fixed, whatever the photons' seed.
-    constexpr std::uint64_t kPhaseStream = 0x63616d6572617068ULL;
-    return 1.0 - render::Pcg32::forSample(kPhaseStream, pixel, static_cast<std::uint64_t>(ray)).uniform();
-}
-
-// to += the direct light and the gathered cells' weights contracted of the rays marched since
-// beginPixel: once per pixel.
-void addGathered(const CameraMarch& ray_march, const std::vector<float>& lbar_sum, float* to) {
-    ray_march.addDirect(to);
-    if (!lbar_sum.empty()) ray_march.contract(lbar_sum, to);
-}
-
-// Adds pixel (px, py)'s radiance from m x m radiance-only rays to `to` (after beginPixel). They
-// march at the step of their own spacing (TraceSettings::footprint_step; never finer than
-// step_voxels, which is what the bundled sample's frames get at 128x128 and above): the quadrature
-// check measures what fewer rays and their longer steps cost together.
-void gatherRadianceRays(CameraMarch& ray_march, const std::vector<float>& lbar_sum, int width, int px, int py,
-                        int m, float* to) {
-    const float weight = 1.0f / static_cast<float>(m * m);
-    const std::size_t pixel = static_cast<std::size_t>(py) * width + px;
-    for (int sample = 0; sample < m * m; ++sample)
-        ray_march.marchPixelRay(px, py, (sample % m + 0.5) / m, (sample / m + 0.5) / m, m, weight, nullptr,
-                                nullptr, cameraRayPhase(pixel, sample));
-    addGathered(ray_march, lbar_sum, to);
-}
-
-// Per-row sums of squared differences and squared values, summed over the rows in order:
-// sqrt(sum diff^2 / sum value^2).
-double relativeFrobeniusError(const std::vector<double>& diff2, const std::vector<double>& value2) {
-    double d = 0.0, v = 0.0;
-    for (std::size_t i = 0; i < diff2.size(); ++i) {
-        d += diff2[i];
-        v += value2[i];
-    }
-    return v > 0.0 ? std::sqrt(d / v) : 0.0;
-}
-
 // The smallest pair of chains the noise target adds, in pilot chains: a prediction just above the
 // target costs at most a quarter more photons than the pilot's. Whole pairs of pilot chains doubled
 // them: frame 12 of the bundled sample upsampled 4x at 128x128 with 6-voxel cells, whose two chains
@@ -185,6 +115,12 @@ std::vector<int> radianceCandidates(const TraceSettings& settings, int footprint
         return candidates;
     for (int m = 2; 2 * m * m <= footprint_per_axis * footprint_per_axis; ++m) candidates.push_back(m);
     return candidates;
+}
+
+std::vector<int> stepScaleCandidates(const TraceSettings& settings) {
+    std::vector<int> scales;
+    for (int scale = 2; scale <= settings.max_step_scale; scale *= 2) scales.push_back(scale);
+    return scales;
 }
 
 double pixelFootprintVoxels(const render::Medium& medium, const render::Camera& camera) {
@@ -283,6 +219,7 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     out.footprint_samples = per_axis * per_axis;
     const int given_per_axis = radianceSamplesPerAxis(settings, per_axis);
     out.radiance_samples = given_per_axis * given_per_axis;  // until the camera pass measures
+    out.camera_step_voxels = settings.step_voxels;           // and its step
     out.depth_b.assign(pixels * out.footprint_samples, 0.0f);
     out.depth_a.assign(pixels * out.footprint_samples * tb.n_alpha, 0.0f);
     if (medium.empty()) return out;
@@ -355,61 +292,35 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     gate.checkpoint(0.6);
     out.seconds_photons = lapSeconds(clock);
 
-    // Camera rays: exact march of the fine medium, with a step from the pixel footprint.
-    // With fewer radiance rays than footprint rays, the quadrature's error is measured before the
-    // camera pass: every kQuadratureCheckStride-th pixel of every kQuadratureCheckStride-th row is
-    // gathered with all n x n rays and with each measured m's, and their squared differences, kept
-    // per row and summed in row order, give each m's error (quadratureCheck). The measured m are
-    // the candidates where the trace chooses (the smallest within radiance_quadrature_target, or the
-    // share of the photon noise radiance_quadrature_noise_share allows where that is more, is
-    // taken), or the given m alone.
-    const std::size_t GC = out.columns;
-    int radiance_per_axis = given_per_axis;
-    std::vector<int> measured = radianceCandidates(settings, per_axis);
-    double target = std::max(settings.radiance_quadrature_target,
-                             settings.radiance_quadrature_noise_share * out.predicted_photon_noise);
-    if (!measured.empty()) out.radiance_quadrature_allowance = target;
-    if (measured.empty() && radiance_per_axis < per_axis) {
-        measured = {radiance_per_axis};
-        target = std::numeric_limits<double>::infinity();
-    }
-    if (!measured.empty()) {
-        std::vector<std::vector<double>> diff2(measured.size(), std::vector<double>(out.height, 0.0)),
-            value2(measured.size(), std::vector<double>(out.height, 0.0));
-        tbb::parallel_for(0, out.height, [&](int py) {
-            if (py % kQuadratureCheckStride != kQuadratureCheckStride / 2 || gate.stopped()) return;
-            CameraMarch ray_march(medium, tb, cells, light_depths, camera, min_step, settings.footprint_step,
-                                  !lbar_sum.empty());
-            std::vector<float> fine(GC), coarse(GC);
-            for (int px = kQuadratureCheckStride / 2; px < out.width; px += kQuadratureCheckStride) {
-                fine.assign(GC, 0.0f);
-                ray_march.beginPixel();
-                gatherRadianceRays(ray_march, lbar_sum, out.width, px, py, per_axis, fine.data());
-                for (std::size_t k = 0; k < measured.size(); ++k) {
-                    coarse.assign(GC, 0.0f);
-                    ray_march.beginPixel();
-                    gatherRadianceRays(ray_march, lbar_sum, out.width, px, py, measured[k], coarse.data());
-                    quadratureCheck(coarse.data(), fine.data(), G, C, tb.bins, diff2[k][py], value2[k][py]);
-                }
-            }
-        });
-        gate.throwIfStopped();
-        radiance_per_axis = per_axis;
-        for (std::size_t k = 0; k < measured.size(); ++k) {
-            const double error = relativeFrobeniusError(diff2[k], value2[k]);
-            out.radiance_candidate_errors.push_back(error);
-            out.radiance_candidate_rays.push_back(measured[k]);
-            if (radiance_per_axis == per_axis && error <= target) {
-                radiance_per_axis = measured[k];
-                out.radiance_quadrature_error = error;
-            }
-        }
-    }
+    // Camera rays: exact march of the fine medium, with a step from the pixel footprint. Which m x m
+    // of the n x n footprint rays gather radiance, and how far the smallest step may grow, is
+    // measured first on a sparse grid of pixels (camera_quadrature.h): the allowance is
+    // radiance_quadrature_target, or radiance_quadrature_noise_share of the frame's predicted photon
+    // noise where that is more.
+    QuadratureOptions options;
+    options.rays = radianceCandidates(settings, per_axis);
+    options.rays_given = options.rays.empty() && given_per_axis < per_axis;
+    if (options.rays_given) options.rays = {given_per_axis};
+    options.step_scales = stepScaleCandidates(settings);
+    options.allowance = std::max(settings.radiance_quadrature_target,
+                                 settings.radiance_quadrature_noise_share * out.predicted_photon_noise);
+    options.alpha_allowance = settings.step_alpha_target;
+    if (!options.step_scales.empty() || (!options.rays_given && !options.rays.empty()))
+        out.radiance_quadrature_allowance = options.allowance;
+    const CameraQuadratureInputs quadrature_inputs{medium, tb, cells, light_depths, camera, lbar_sum,
+                                                   min_step, settings.footprint_step, per_axis};
+    const CameraQuadrature quadrature = chooseCameraQuadrature(quadrature_inputs, options, gate.stopFlag());
+    gate.throwIfStopped();
+    const int radiance_per_axis = quadrature.rays_per_axis;
+    out.radiance_quadrature_error = quadrature.radiance_error;
+    out.quadrature_candidates = quadrature.candidates;
+    out.camera_step_voxels = settings.step_voxels * quadrature.step_scale;
+    const double camera_step = quadrature.step_scale * min_step;
     out.radiance_samples = radiance_per_axis * radiance_per_axis;
     const bool shared = radiance_per_axis == per_axis;
     std::atomic<int> rows_done{0};
     tbb::parallel_for(tbb::blocked_range<int>(0, out.height, 4), [&](const tbb::blocked_range<int>& rows) {
-        CameraMarch ray_march(medium, tb, cells, light_depths, camera, min_step, settings.footprint_step,
+        CameraMarch ray_march(medium, tb, cells, light_depths, camera, camera_step, settings.footprint_step,
                               !lbar_sum.empty());
         std::vector<double> depth_a(tb.n_alpha);
         const float radiance_weight = 1.0f / static_cast<float>(out.radiance_samples);

@@ -22,7 +22,8 @@
 //   3. Camera rays march the exact fine-resolution medium and integrate
 //      tau * (Q0 + sigma_s * sum of Lbar) for every grid point and column; the
 //      per-pixel optical depths for exact alpha come from the same march. Their step follows the
-//      pixel footprint (never finer than step_voxels).
+//      pixel footprint, never finer than step_voxels or the coarser step the frame's measured
+//      quadrature allows (camera_quadrature.h, TraceSettings::max_step_scale).
 // Errors: quadrature of the marches, Monte Carlo noise of the photon tracks, and the
 // interpolation of Lbar between cell centres.
 // Memory: planFrameTrace() says what a frame needs before any tracing; nothing is stored per
@@ -196,6 +197,20 @@ struct TraceSettings {
     // was 0.505% / 0.601% (median / worst) against 0.474% / 0.568% with every ray. 0: the target
     // alone (the bakes before 2026-12-07's second session).
     double radiance_quadrature_noise_share = 0.3;
+    // The camera rays' smallest step may be step_voxels times 2, 4, ... up to this, chosen per frame
+    // before the radiance rays (camera_quadrature.h): the coarsest step at which all footprint rays'
+    // radiance is within the allowance above of theirs at step_voxels, and whose pixels' alpha moves
+    // by at most step_alpha_target for any look on the axes; the radiance rays then get what it
+    // leaves of the allowance. step_voxels is what the bundled sample's frames need (their trilinear fields bend at
+    // every voxel face), but a field that is smooth at the voxel scale is integrated as well at a
+    // coarser step: frame 12 of the bundled sample upsampled 4x at 256x256 marched at 1 voxel in
+    // 9.6 s against 29.0 s at 0.25, its three looks' error against a 2%-noise reference below what
+    // the reference resolves either way. 1: step_voxels always (the bakes before 2026-12-08).
+    int max_step_scale = 4;
+    // A fifth of the bake's alpha bar of 0.005 (its measured worst is at most 0.0029 on
+    // scripts/bench/accuracy.sh): the check sees 1/64 of the pixels, and a silhouette between them
+    // can move more than the ones it sees.
+    double step_alpha_target = 0.001;
     // Bytes the trace may use for what it can size (the scattered-light cells): 0 = no limit.
     // planFrameTrace() coarsens the cells until they fit.
     std::uint64_t memory_budget_bytes = 0;
@@ -234,6 +249,10 @@ int radianceSamplesPerAxis(const TraceSettings& settings, int footprint_per_axis
 // where m is given or radiance_quadrature_target is 0).
 std::vector<int> radianceCandidates(const TraceSettings& settings, int footprint_per_axis);
 
+// The coarser steps the trace measures, as multiples of step_voxels: 2, 4, ... up to
+// max_step_scale (empty at 1).
+std::vector<int> stepScaleCandidates(const TraceSettings& settings);
+
 // The width of a pixel's footprint at the corner of the medium's influence box nearest the camera
 // (the smallest any pixel has on the box), in the medium's smallest voxel edge; 0 where that corner
 // is not in front of the camera.
@@ -242,6 +261,19 @@ double pixelFootprintVoxels(const render::Medium& medium, const render::Camera& 
 TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& camera, const BasisModel& model,
                          const TraceSettings& settings);
 
+// One measured choice of camera_quadrature.h: m x m radiance rays at step_scale times step_voxels.
+// radiance_error: the relative error of the pixels' radiance, as a look sees it (per grid point the
+// emission bins summed, and each light's column), against all n x n rays at step_voxels (for the
+// n x n rays at a coarser step) or at the step taken (for m < n). alpha_error: the largest change of
+// a checked pixel's alpha over every look on the axes' samples against step_voxels (0 for m < n:
+// alpha is from the n x n rays).
+struct QuadratureCandidate {
+    int rays_per_axis = 0;
+    int step_scale = 1;
+    double radiance_error = 0.0;
+    double alpha_error = 0.0;
+};
+
 struct FrameBasis {
     int width = 0;
     int height = 0;
@@ -249,18 +281,19 @@ struct FrameBasis {
     std::vector<float> matrix;          // pixels x columns, pixel-major; column = point * C + c
     int footprint_samples = 1;          // rays per pixel for alpha's optical depths
     int radiance_samples = 1;           // rays per pixel for its radiance
-    // With fewer radiance rays than footprint rays: the relative error of the basis's radiance
-    // against all the footprint rays', on every 16th pixel, as a look sees it: per grid point, the
-    // emission bins summed and each light's column (0 when they are the same rays).
+    // With fewer radiance rays than footprint rays or a coarser step: the relative error of the
+    // basis's radiance against all the footprint rays' at step_voxels, as a look sees it: per grid
+    // point, the emission bins summed and each light's column; the step's (on every 64th pixel) and
+    // the rays' (on every 16th) in quadrature (camera_quadrature.h). 0 for every ray at step_voxels.
     double radiance_quadrature_error = 0.0;
-    // The quadrature error the frame allowed its radiance rays (TraceSettings::
-    // radiance_quadrature_target and radiance_quadrature_noise_share); 0 where m was not chosen.
+    // The quadrature error the frame allowed its radiance rays and step (TraceSettings::
+    // radiance_quadrature_target and radiance_quadrature_noise_share); 0 where neither was chosen.
     double radiance_quadrature_allowance = 0.0;
-    // The error each measured m had: the candidates in radianceCandidates' order where the trace
-    // chose m (TraceSettings::radiance_quadrature_target), the given m where it was fewer than n,
-    // empty where every footprint ray carried radiance; radiance_candidate_rays holds each one's m.
-    std::vector<double> radiance_candidate_errors;
-    std::vector<int> radiance_candidate_rays;
+    // What each measured choice of radiance rays and step had (camera_quadrature.h): all n x n rays
+    // at each coarser step of stepScaleCandidates, then the m of radianceCandidates (or the given m
+    // where it was fewer than n) at the step taken; empty where nothing was measured.
+    std::vector<QuadratureCandidate> quadrature_candidates;
+    double camera_step_voxels = 0.0;  // the camera rays' smallest step taken, in voxels
     std::vector<float> depth_b;   // O_b: footprint sample x pixel
     std::vector<float> depth_a;   // O_a: footprint sample x alpha threshold x pixel
     int scattering_orders = 0;          // orders traced

@@ -32,8 +32,8 @@ struct ScatterCells {
     // Per slot and grid point: M = integral of sigma_s over the cell, in world volume.
     std::vector<float> mass;
     // Unit cubes with density that were integrated, and those whose temperatures were smooth
-    // enough for 2 x 2 x 2 Gauss points instead of 4 x 4 x 4 (scatter_cells.cpp).
-    std::size_t cubes = 0, smooth_cubes = 0;
+    // enough for 2 x 2 x 2 Gauss points, or 3 x 3 x 3, instead of 4 x 4 x 4 (scatter_cells.cpp).
+    std::size_t cubes = 0, smooth_cubes = 0, varied_cubes = 0;
 
     std::size_t cellIndex(const glm::ivec3& c) const {
         return static_cast<std::size_t>(c.x) +

@@ -50,6 +50,7 @@ void writeReportJson(const std::string& path, const std::string& sequence, const
              {"radiance_rays_per_axis", f.radiance_rays_per_axis},
              {"radiance_quadrature_allowance", f.radiance_quadrature_allowance},
              {"footprint_rays_per_axis", f.footprint_rays_per_axis},
+             {"camera_step_voxels", f.camera_step_voxels},
              {"predicted_look_error", f.predictedLookError()},
              {"trace_seconds", f.trace_seconds},
              {"trace_stage_seconds",
@@ -70,10 +71,13 @@ void writeReportJson(const std::string& path, const std::string& sequence, const
              {"predicted_relative_error", std::hypot(f.truncation_error, f.quantisation_error)}});
     for (size_t i = 0; i < report.frames.size(); ++i) {
         if (report.frames[i].has_target) frames[i]["storage_target"] = bake::storageTargetEntry(report.frames[i]);
-        // Why the frame took its radiance rays: each m measured and its quadrature error.
+        // Why the frame took its radiance rays and step: each choice measured and its errors.
         nlohmann::ordered_json candidates = nlohmann::ordered_json::array();
-        for (const auto& [m, error] : report.frames[i].radiance_candidates)
-            candidates.push_back({{"rays_per_axis", m}, {"quadrature_error", error}});
+        for (const bake::QuadratureCandidate& c : report.frames[i].quadrature_candidates)
+            candidates.push_back({{"rays_per_axis", c.rays_per_axis},
+                                  {"step_scale", c.step_scale},
+                                  {"quadrature_error", c.radiance_error},
+                                  {"alpha_error", c.alpha_error}});
         frames[i]["radiance_candidates"] = std::move(candidates);
     }
     // The sequence's path as typed is provenance of this run, not of the package, whose bytes do
@@ -140,12 +144,20 @@ std::string describeTraceChoice(const bake::BakeConfig& config) {
             "the frame's photon noise (chosen per frame)",
             m, m, candidates.front(), candidates.front(), 100.0 * t.radiance_quadrature_target,
             t.radiance_quadrature_noise_share);
-    char line[640];
+    char step[160];
+    if (t.max_step_scale >= 2)
+        std::snprintf(step, sizeof step,
+                      "march step %g voxel, or up to %g where the radiance keeps within that and alpha within "
+                      "%g (chosen per frame)",
+                      t.step_voxels, t.step_voxels * bake::stepScaleCandidates(t).back(), t.step_alpha_target);
+    else
+        std::snprintf(step, sizeof step, "march step %g voxel", t.step_voxels);
+    char line[800];
     std::snprintf(line, sizeof line,
-                  "trace (%s quality): %dx%d footprint rays a pixel for alpha, %s for radiance; march "
-                  "step %g voxel; %s; scattering orders until %g%% is left",
-                  config.quality.empty() ? "default" : config.quality.c_str(), n, n, radiance, t.step_voxels,
-                  photons, 100.0 * t.order_tolerance);
+                  "trace (%s quality): %dx%d footprint rays a pixel for alpha, %s for radiance; %s; %s; "
+                  "scattering orders until %g%% is left",
+                  config.quality.empty() ? "default" : config.quality.c_str(), n, n, radiance, step, photons,
+                  100.0 * t.order_tolerance);
     return line;
 }
 
@@ -265,11 +277,12 @@ void registerBakeCommand(CLI::App& app) {
         const bool sized = config.target.package_bytes > 0;
         // "photons": the multiple of the settings' photons the noise target asked for; "noise": the
         // photon noise it predicts for the worst column's image (relative RMSE); "quad": the radiance
-        // rays' quadrature error, measured, and "rays" the radiance rays of the footprint's (m/n
-        // an axis); "look err": all of a look's predicted error together.
-        std::printf("%6s %5s %10s %10s %10s %9s %9s %9s %9s %7s %8s %8s %7s %5s %9s %9s %9s%s\n", "frame",
+        // rays' quadrature error, measured, "rays" the radiance rays of the footprint's (m/n an
+        // axis) and "step" the camera rays' smallest step in voxels; "look err": all of a look's
+        // predicted error together.
+        std::printf("%6s %5s %10s %10s %10s %9s %9s %9s %9s %7s %8s %8s %7s %5s %5s %9s %9s %9s%s\n", "frame",
                     "rank", "svd err", "store err", "pred err", "alpha err", "KiB", "U KiB", "depth KiB",
-                    "orders", "photons", "noise %", "quad %", "rays", "look err %", "trace s", "svd s",
+                    "orders", "photons", "noise %", "quad %", "rays", "step", "look err %", "trace s", "svd s",
                     sized ? "      q" : "");
         for (const bake::FrameBakeReport& f : report.frames) {
             const std::string rays = f.footprint_rays_per_axis > 0
@@ -277,14 +290,14 @@ void registerBakeCommand(CLI::App& app) {
                                                std::to_string(f.footprint_rays_per_axis)
                                          : "-";
             std::printf(
-                "%6d %5d %10.2e %10.2e %10.2e %9.1e %9.1f %9.1f %9.1f %7d %7.2fx %8.2f %7.2f %5s %10.2f "
+                "%6d %5d %10.2e %10.2e %10.2e %9.1e %9.1f %9.1f %9.1f %7d %7.2fx %8.2f %7.2f %5s %5.3g %10.2f "
                 "%9.1f %9.1f",
                 f.frame, f.rank, f.truncation_error, f.quantisation_error,
                 std::hypot(f.truncation_error, f.quantisation_error), f.alpha_storage_bound,
                 (f.u_bytes + f.svt_bytes + f.depth_bytes) / 1024.0, f.u_bytes / 1024.0,
                 f.depth_bytes / 1024.0, f.scattering_orders, f.photon_multiple,
                 100.0 * f.predicted_photon_noise, 100.0 * f.radiance_quadrature_error, rays.c_str(),
-                100.0 * f.predictedLookError(), f.trace_seconds, f.compress_seconds);
+                f.camera_step_voxels, 100.0 * f.predictedLookError(), f.trace_seconds, f.compress_seconds);
             if (sized) std::printf(" %6.3f", f.quality_scale);
             const double noise_target = config.trace.photon_noise_target;
             std::printf("%s%s%s\n", f.has_target && !f.target_met ? "  (over target)" : "",

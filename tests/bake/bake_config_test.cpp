@@ -48,7 +48,8 @@ TEST(BakeConfig, AppliesEveryKey) {
         "trace": {"cell_voxels": 2, "photons_primary": 100, "photons_per_order": 50, "max_orders": 3,
                   "order_tolerance": 0.01, "step_voxels": 0.25, "photon_pilot_share": 0.5,
                   "min_order_photon_share": 0.5, "radiance_quadrature_target": 0.002,
-                  "radiance_quadrature_noise_share": 0.5, "cell_pixel_footprints": 2.5, "min_cells_across": 20},
+                  "radiance_quadrature_noise_share": 0.5, "cell_pixel_footprints": 2.5, "min_cells_across": 20,
+                  "max_step_scale": 2, "step_alpha_target": 0.002},
         "compression": {"target_relative_error": 0.01, "max_rank": 7}
     })");
     EXPECT_EQ(c.frames, "2-5");
@@ -81,6 +82,8 @@ TEST(BakeConfig, AppliesEveryKey) {
     EXPECT_EQ(c.trace.radiance_quadrature_noise_share, 0.5);
     EXPECT_EQ(c.trace.cell_pixel_footprints, 2.5);
     EXPECT_EQ(c.trace.min_cells_across, 20);
+    EXPECT_EQ(c.trace.max_step_scale, 2);
+    EXPECT_EQ(c.trace.step_alpha_target, 0.002);
     EXPECT_EQ(c.compression.target_relative_error, 0.01);
     EXPECT_EQ(c.compression.max_rank, 7);
 }
@@ -164,6 +167,9 @@ TEST(BakeConfig, ErrorsNameTheFileAndTheProblem) {
     expectError(R"({"trace": {"radiance_quadrature_noise_share": -1}})", "radiance_quadrature_noise_share");
     expectError(R"({"trace": {"cell_pixel_footprints": -1}})", "cell_pixel_footprints");
     expectError(R"({"trace": {"min_cells_across": 0}})", "trace");
+    expectError(R"({"trace": {"max_step_scale": 0}})", "max_step_scale");
+    expectError(R"({"trace": {"max_step_scale": 17}})", "max_step_scale");
+    expectError(R"({"trace": {"step_alpha_target": -0.1}})", "step_alpha_target");
     expectError(R"({"quality": "best"})", "preview, default or final");
     expectError(R"({"up": "x"})", "up");
     expectError(R"({"camera": [0, 0, 10, 0, 0, 0]})", "camera");
@@ -197,6 +203,9 @@ TEST(BakeConfig, QualityPresetsAndTheirOverrides) {
         << "default: 2x2 where their error allows";
     EXPECT_EQ(radianceSamplesPerAxis(final_, 4), 4);
     EXPECT_EQ(radianceCandidates(final_, 4), std::vector<int>{}) << "final: every footprint ray";
+    EXPECT_EQ(stepScaleCandidates(final_), std::vector<int>{}) << "final: at its finer step always";
+    EXPECT_EQ(stepScaleCandidates(preview), (std::vector<int>{2, 4}));
+    EXPECT_EQ(stepScaleCandidates(defaults), (std::vector<int>{2, 4}));
     EXPECT_EQ(radianceSamplesPerAxis(preview, 4), 2) << "preview: 2x2 of them";
 
     const BakeConfig from_file = apply(dir, R"({"quality": "preview", "trace": {"step_voxels": 0.2}})");

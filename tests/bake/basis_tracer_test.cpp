@@ -8,8 +8,10 @@
 #include <climits>
 #include <cmath>
 #include <cstdio>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "bake_test_support.h"
+#include "render/random.h"
 #include "render/reference_tracer.h"
 
 namespace firelook::bake {
@@ -243,6 +245,7 @@ TEST(BasisTracer, RadianceRaysCanBeFewerThanTheFootprintRays) {
         t.footprint_step = 0.0;
         t.footprint_samples_per_axis = n;
         t.radiance_samples_per_axis = m;
+        t.max_step_scale = 1;  // every image at step_voxels (StepIsChosenByItsQuadratureError)
         return traceFrameBasis(box.medium, box.camera, box.model, t);
     };
     const FrameBasis split = trace(4, 2), radiance = trace(2, 2), depths = trace(4, 4);
@@ -306,6 +309,7 @@ TEST(BasisTracer, RadianceRaysAreChosenByTheirQuadratureError) {
         t.footprint_samples_per_axis = 4;
         t.radiance_samples_per_axis = m;
         t.radiance_quadrature_target = target;
+        t.max_step_scale = 1;  // the rays alone (StepIsChosenByItsQuadratureError)
         return traceFrameBasis(box.medium, box.camera, box.model, t);
     };
     const FrameBasis given = trace(2, 0.0), every = trace(4, 0.0);
@@ -317,16 +321,17 @@ TEST(BasisTracer, RadianceRaysAreChosenByTheirQuadratureError) {
     EXPECT_TRUE(loose.matrix == given.matrix);
     EXPECT_TRUE(loose.depth_b == given.depth_b && loose.depth_a == given.depth_a);
     EXPECT_EQ(loose.radiance_quadrature_error, given.radiance_quadrature_error);
-    ASSERT_EQ(loose.radiance_candidate_errors.size(), 1u);
-    EXPECT_EQ(loose.radiance_candidate_errors[0], given.radiance_quadrature_error);
+    ASSERT_EQ(loose.quadrature_candidates.size(), 1u);
+    EXPECT_EQ(loose.quadrature_candidates[0].radiance_error, given.radiance_quadrature_error);
 
     // A target below it: every ray, and no quadrature error left.
     const FrameBasis tight = trace(0, 0.5 * given.radiance_quadrature_error);
     EXPECT_EQ(tight.radiance_samples, 16);
     EXPECT_TRUE(tight.matrix == every.matrix);
     EXPECT_EQ(tight.radiance_quadrature_error, 0.0);
-    ASSERT_EQ(tight.radiance_candidate_errors.size(), 1u);
-    EXPECT_EQ(tight.radiance_candidate_errors[0], given.radiance_quadrature_error) << "what the 2x2 rays had";
+    ASSERT_EQ(tight.quadrature_candidates.size(), 1u);
+    EXPECT_EQ(tight.quadrature_candidates[0].radiance_error, given.radiance_quadrature_error)
+        << "what the 2x2 rays had";
     EXPECT_EQ(tight.radiance_quadrature_allowance, 0.5 * given.radiance_quadrature_error);
 
     // The same target with a share of the photon noise above the 2x2 rays' error: they are taken.
@@ -342,6 +347,118 @@ TEST(BasisTracer, RadianceRaysAreChosenByTheirQuadratureError) {
     EXPECT_TRUE(by_noise.matrix == given.matrix);
     // A quarter of that share is below the error again: every ray.
     EXPECT_EQ(trace(0, 0.5 * given.radiance_quadrature_error, 0.25 * share).radiance_samples, 16);
+}
+
+// A 24^3 box of world size 1: a Gaussian blob of density and temperature sampled at the voxels
+// (smooth at the voxel scale, as an upsampled or filtered simulation is), or the same blob with half
+// its voxels, drawn at random, emptied and the others doubled (the field jumps at every voxel, and a
+// step longer than a voxel misjudges how much of it each ray crosses).
+render::Medium blobMedium(bool rough) {
+    constexpr int N = 24;
+    std::vector<float> density(N * N * N), temperature(N * N * N);
+    render::Pcg32 rng(7);
+    for (int k = 0; k < N; ++k)
+        for (int j = 0; j < N; ++j)
+            for (int i = 0; i < N; ++i) {
+                const glm::dvec3 p = (glm::dvec3(i, j, k) + 0.5) / double(N) - 0.5;
+                const double r2 = glm::dot(p, p);
+                const std::size_t at = static_cast<std::size_t>(i + N * (j + N * k));
+                density[at] = static_cast<float>(3.0 * std::exp(-r2 / (2.0 * 0.15 * 0.15)));
+                if (rough) density[at] *= rng.uniform() < 0.5f ? 0.0f : 2.0f;
+                temperature[at] = static_cast<float>(0.2 + 0.7 * std::exp(-r2 / (2.0 * 0.12 * 0.12)));
+            }
+    const glm::dmat4 index_to_world = glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(-0.5 + 0.5 / N)),
+                                                 glm::dvec3(1.0 / N));
+    return render::Medium(glm::ivec3(0), glm::ivec3(N), density, temperature, index_to_world, 0.2f);
+}
+
+// By default the trace may march its camera rays at up to 4 times step_voxels (max_step_scale): it
+// measures, before the camera pass, what each coarser step changes in the radiance and alpha of all
+// the footprint rays, and takes the coarsest within the allowances. A field that is smooth at the
+// voxel scale takes 4 times; one that jumps at every voxel only twice. What the trace then marches
+// is the bake with that step, bit for bit, and with no coarser step allowed the bake of
+// max_step_scale 1.
+TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
+    TraceSettings defaults;
+    EXPECT_EQ(defaults.max_step_scale, 4);
+    EXPECT_EQ(stepScaleCandidates(defaults), (std::vector<int>{2, 4}));
+    defaults.max_step_scale = 1;
+    EXPECT_EQ(stepScaleCandidates(defaults), std::vector<int>{});
+
+    const BasisModel model = basisModel(2, 0.5, {{0.3, 0.6}, {1.0, 8.0}, {1.0, 4.0}});
+    // Obliquely, as real cameras see a grid: along an axis, a step of a whole voxel puts every midpoint
+    // at one offset from the field's kinks, and on a trilinear field their errors then cancel.
+    const render::Camera camera =
+        render::Camera::lookAt({2.0, 1.6, 1.2}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, degrees(30.0), 32, 32);
+    const auto trace = [&](const render::Medium& medium, int max_step_scale, double alpha_target = 0.001) {
+        TraceSettings t = fastTrace(3);
+        t.radiance_quadrature_noise_share = 0.0;  // the fixed 0.15%, not what 2000 photons' noise allows
+        t.footprint_samples_per_axis = 4;
+        t.max_step_scale = max_step_scale;
+        t.step_alpha_target = alpha_target;
+        return traceFrameBasis(medium, camera, model, t);
+    };
+    const double allowance = TraceSettings{}.radiance_quadrature_target;
+    // Every coarser step's candidate (n x n rays) and whether it was within both allowances.
+    const auto within = [&](const QuadratureCandidate& c) {
+        return c.radiance_error <= allowance && c.alpha_error <= 0.001;
+    };
+
+    const render::Medium smooth = blobMedium(false), rough = blobMedium(true);
+    const FrameBasis smooth_bake = trace(smooth, 4), rough_bake = trace(rough, 4);
+    for (const FrameBasis* b : {&smooth_bake, &rough_bake}) {
+        ASSERT_EQ(b->quadrature_candidates.size(), 3u) << "steps 2 and 4, then m = 2 at the step taken";
+        EXPECT_EQ(b->quadrature_candidates[0].step_scale, 2);
+        EXPECT_EQ(b->quadrature_candidates[1].step_scale, 4);
+        EXPECT_EQ(b->quadrature_candidates[0].rays_per_axis, 4);
+        EXPECT_EQ(b->quadrature_candidates[2].rays_per_axis, 2);
+        EXPECT_EQ(b->radiance_quadrature_allowance, allowance);
+        EXPECT_LE(b->radiance_quadrature_error, allowance);
+        for (const QuadratureCandidate& c : b->quadrature_candidates)
+            std::printf("[measured] %s: %dx%d rays, step x%d: radiance %.3e, alpha %.3e\n",
+                        b == &smooth_bake ? "smooth" : "rough", c.rays_per_axis, c.rays_per_axis, c.step_scale,
+                        c.radiance_error, c.alpha_error);
+    }
+    // The smooth blob: the coarsest step.
+    ASSERT_TRUE(within(smooth_bake.quadrature_candidates[1]));
+    EXPECT_EQ(smooth_bake.camera_step_voxels, 4 * TraceSettings{}.step_voxels);
+    EXPECT_GT(smooth_bake.quadrature_candidates[1].radiance_error, 0.0) << "a different march, measured";
+    // The rough one: 4 times the step moves alpha too much, twice does not, and is taken; the bake
+    // is then the one that could choose no more than twice, bit for bit.
+    EXPECT_FALSE(within(rough_bake.quadrature_candidates[1]));
+    ASSERT_TRUE(within(rough_bake.quadrature_candidates[0]));
+    EXPECT_EQ(rough_bake.camera_step_voxels, 2 * TraceSettings{}.step_voxels);
+    const FrameBasis rough_twice = trace(rough, 2);
+    EXPECT_TRUE(rough_twice.matrix == rough_bake.matrix);
+    EXPECT_TRUE(rough_twice.depth_b == rough_bake.depth_b && rough_twice.depth_a == rough_bake.depth_a);
+    // Allowed a tenth of that alpha change, it keeps step_voxels, and is then the bake that never
+    // measured a step, bit for bit.
+    const double tight = 0.1 * rough_bake.quadrature_candidates[0].alpha_error;
+    const FrameBasis rough_tight = trace(rough, 4, tight), rough_fixed = trace(rough, 1);
+    EXPECT_EQ(rough_tight.camera_step_voxels, TraceSettings{}.step_voxels);
+    EXPECT_TRUE(rough_fixed.matrix == rough_tight.matrix);
+    EXPECT_TRUE(rough_fixed.depth_b == rough_tight.depth_b && rough_fixed.depth_a == rough_tight.depth_a);
+    EXPECT_EQ(rough_fixed.radiance_samples, rough_tight.radiance_samples);
+    ASSERT_EQ(rough_fixed.quadrature_candidates.size(), 1u) << "m = 2 alone";
+
+    // What the smooth blob's step changes, over the whole image: within a few times what the check
+    // measured on its 1/64 of the pixels (summed bins per grid point, as the check counts).
+    const FrameBasis smooth_fixed = trace(smooth, 1);
+    double diff2 = 0.0, value2 = 0.0;
+    const int G = model.axes.pointCount(), C = model.columnsPerPoint();
+    for (std::size_t pixel = 0; pixel < 32 * 32; ++pixel)
+        for (int g = 0; g < G; ++g) {
+            double a = 0.0, b = 0.0;
+            for (int c = 0; c < 2; ++c) {
+                a += smooth_bake.matrix[pixel * smooth_bake.columns + g * C + c];
+                b += smooth_fixed.matrix[pixel * smooth_fixed.columns + g * C + c];
+            }
+            diff2 += (a - b) * (a - b);
+            value2 += b * b;
+        }
+    const double image_error = std::sqrt(diff2 / value2);
+    std::printf("[measured] smooth blob, x4 step against step_voxels over the image: %.3e\n", image_error);
+    EXPECT_LT(image_error, 2.0 * allowance);
 }
 
 // A stop asked for while the scattering cells or the light depths are built ends the trace there,

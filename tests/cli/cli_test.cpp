@@ -476,10 +476,17 @@ TEST(Cli, BakeQualityPresetIsPrintedRecordedAndPredicted) {
     EXPECT_GT(frame.at("radiance_quadrature_error").get<double>(), 0.0) << "2x2 of 8x8 rays: measured";
     EXPECT_EQ(frame.at("radiance_rays_per_axis").get<int>(), 2);
     EXPECT_EQ(frame.at("footprint_rays_per_axis").get<int>(), 8);
-    const json candidates = frame.at("radiance_candidates");  // preview's given m, measured
-    ASSERT_EQ(candidates.size(), 1u) << candidates;
-    EXPECT_EQ(candidates[0].at("rays_per_axis").get<int>(), 2);
-    EXPECT_EQ(candidates[0].at("quadrature_error").get<double>(),
+    // Every n x n at twice and 4 times the step, then preview's given m at the step taken, measured.
+    // The frame is a few pixels of this image: too few to judge a coarser step by.
+    const json candidates = frame.at("radiance_candidates");
+    ASSERT_EQ(candidates.size(), 3u) << candidates;
+    EXPECT_EQ(candidates[0].at("rays_per_axis").get<int>(), 8);
+    EXPECT_EQ(candidates[0].at("step_scale").get<int>(), 2);
+    EXPECT_EQ(candidates[1].at("step_scale").get<int>(), 4);
+    EXPECT_EQ(candidates[2].at("rays_per_axis").get<int>(), 2);
+    EXPECT_EQ(candidates[2].at("step_scale").get<int>(), 1);
+    EXPECT_EQ(frame.at("camera_step_voxels").get<double>(), 0.25);
+    EXPECT_EQ(candidates[2].at("quadrature_error").get<double>(),
               frame.at("radiance_quadrature_error").get<double>());
     EXPECT_NE(r.out.find(" 2/8 "), std::string::npos) << "the table's rays column\n" << r.out;
     EXPECT_NEAR(predicted,
@@ -495,6 +502,9 @@ TEST(Cli, BakeQualityPresetIsPrintedRecordedAndPredicted) {
     EXPECT_EQ(settings.at("quality"), "preview");
     EXPECT_EQ(settings.at("trace").at("step_voxels"), 0.25) << "the preset's";
     EXPECT_EQ(settings.at("trace").at("photons_primary"), 2000) << "the file's key over the preset";
+    EXPECT_EQ(settings.at("trace").at("max_step_scale"), 4) << "the preset's";
+    const json errors = json::parse(r.out).at("metadata").at("errors")[0];
+    EXPECT_EQ(errors.at("camera_step_voxels"), 0.25) << "the step taken, recorded";
 
     r = runFirelook(dir, "bench '" + kSample +
                              "' --package pkg.firelook --frames 1 --looks 1 --spp 8 --alpha-rays 2 --json bench.json");
