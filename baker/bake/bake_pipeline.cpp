@@ -195,7 +195,7 @@ FrameBakeReport reportFromMetadata(int frame, const FrameMetadata& kept) {
     fr.radiance_quadrature_error = e.value("radiance_quadrature_error", 0.0);  // before 2026-12-06's radiance rays
     fr.radiance_rays_per_axis = e.value("radiance_rays_per_axis", 0);  // before 2026-12-07: not recorded
     fr.footprint_rays_per_axis = e.value("footprint_rays_per_axis", 0);
-    fr.camera_step_voxels = e.value("camera_step_voxels", 0.0);  // before 2026-12-08: not recorded
+    fr.camera_step_voxels = e.value("camera_step_voxels", 0.0);  // before 2026-12-07 (fourth session): not recorded
     // Before the pilot chains (2026-12-06) every chain held half the settings' photons.
     fr.photon_multiple = e.value("photon_multiple", 0.5 * fr.photon_chains);
     fr.order_photon_share = e.value("order_photon_share", 1.0);  // before 2026-12-06 every order had its photons

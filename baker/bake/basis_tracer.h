@@ -201,15 +201,16 @@ struct TraceSettings {
     // before the radiance rays (camera_quadrature.h): the coarsest step at which all footprint rays'
     // radiance is within the allowance above of theirs at step_voxels, and whose pixels' alpha moves
     // by at most step_alpha_target for any look on the axes; the radiance rays then get what it
-    // leaves of the allowance. step_voxels is what the bundled sample's frames need (their trilinear fields bend at
-    // every voxel face), but a field that is smooth at the voxel scale is integrated as well at a
-    // coarser step: frame 12 of the bundled sample upsampled 4x at 256x256 marched at 1 voxel in
-    // 9.6 s against 29.0 s at 0.25, its three looks' error against a 2%-noise reference below what
-    // the reference resolves either way. 1: step_voxels always (the bakes before 2026-12-08).
+    // leaves of the allowance. The midpoint rule's error is the field's, not the step's alone: a
+    // field smooth at the voxel scale (frame 12 of the bundled sample upsampled 4x) loses nothing
+    // the check sees at 1 voxel, and its camera rays took 11.3 s against 29.0 s at 256x256; the
+    // sample's frames 3 and 7 keep 0.25 (alpha moves 0.003-0.004 at 0.5), frames 11, 12 and the
+    // smoke's frame 20 take 0.5. 1: step_voxels always (the bakes before 2026-12-07's fourth
+    // session).
     int max_step_scale = 4;
     // A fifth of the bake's alpha bar of 0.005 (its measured worst is at most 0.0029 on
-    // scripts/bench/accuracy.sh): the check sees 1/64 of the pixels, and a silhouette between them
-    // can move more than the ones it sees.
+    // scripts/bench/accuracy.sh, with these steps as without): the check sees 1/64 of the pixels,
+    // and a silhouette between them can move more than the ones it sees.
     double step_alpha_target = 0.001;
     // Bytes the trace may use for what it can size (the scattered-light cells): 0 = no limit.
     // planFrameTrace() coarsens the cells until they fit.

@@ -258,7 +258,7 @@ bake::TraceSettings traceSettingsOf(const ordered_json& metadata) {
     t.radiance_quadrature_target = s.value("radiance_quadrature_target", 0.0);
     // And from before the photon noise's share (2026-12-07): the target alone.
     t.radiance_quadrature_noise_share = s.value("radiance_quadrature_noise_share", 0.0);
-    // And from before the trace chose its step (2026-12-08): step_voxels always.
+    // And from before the trace chose its step (2026-12-07, fourth session): step_voxels always.
     t.max_step_scale = s.value("max_step_scale", 1);
     t.step_alpha_target = s.value("step_alpha_target", t.step_alpha_target);
     return t;
