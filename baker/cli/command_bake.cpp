@@ -144,11 +144,11 @@ std::string describeTraceChoice(const bake::BakeConfig& config) {
             "the frame's photon noise (chosen per frame)",
             m, m, candidates.front(), candidates.front(), 100.0 * t.radiance_quadrature_target,
             t.radiance_quadrature_noise_share);
-    char step[160];
+    char step[224];
     if (t.max_step_scale >= 2)
         std::snprintf(step, sizeof step,
-                      "march step %g voxel, or up to %g where the radiance keeps within that and alpha within "
-                      "%g (chosen per frame)",
+                      "march step %g voxel, or up to %g voxel where that moves the radiance within the same "
+                      "allowance and alpha by at most %g (chosen per frame)",
                       t.step_voxels, t.step_voxels * bake::stepScaleCandidates(t).back(), t.step_alpha_target);
     else
         std::snprintf(step, sizeof step, "march step %g voxel", t.step_voxels);

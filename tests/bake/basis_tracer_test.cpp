@@ -1,6 +1,7 @@
 // The basis tracer (baker/bake/basis_tracer.h) against closed forms on a homogeneous box and against
 // the reference path tracer with scattering.
 #include "bake/basis_tracer.h"
+#include "bake/camera_quadrature.h"
 
 #include <gtest/gtest.h>
 
@@ -459,6 +460,24 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
     const double image_error = std::sqrt(diff2 / value2);
     std::printf("[measured] smooth blob, x4 step against step_voxels over the image: %.3e\n", image_error);
     EXPECT_LT(image_error, 2.0 * allowance);
+
+    // The smooth blob far away: a few pixels of the image, fewer than kMinStepCheckPixels of the
+    // checked ones, too few to judge a step by, so step_voxels, whatever the errors measured.
+    TraceSettings t = fastTrace(3);
+    t.radiance_quadrature_noise_share = 0.0;
+    t.footprint_samples_per_axis = 4;
+    const render::Camera far_away =
+        render::Camera::lookAt({20.0, 16.0, 12.0}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, degrees(30.0), 32, 32);
+    const FrameBasis small = traceFrameBasis(smooth, far_away, model, t);
+    std::size_t pixels_with_density = 0;
+    for (std::size_t pixel = 0; pixel < 32 * 32; ++pixel) {
+        bool any = false;
+        for (int ray = 0; ray < small.footprint_samples; ++ray) any = any || small.depth_b[ray * 32 * 32 + pixel] > 0.0f;
+        pixels_with_density += any;
+    }
+    ASSERT_GT(pixels_with_density, 0u);
+    ASSERT_LT(pixels_with_density, static_cast<std::size_t>(kMinStepCheckPixels));
+    EXPECT_EQ(small.camera_step_voxels, TraceSettings{}.step_voxels);
 }
 
 // A stop asked for while the scattering cells or the light depths are built ends the trace there,
