@@ -304,6 +304,8 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     options.step_scales = stepScaleCandidates(settings);
     options.allowance = std::max(settings.radiance_quadrature_target,
                                  settings.radiance_quadrature_noise_share * out.predicted_photon_noise);
+    options.step_allowance = std::min(options.allowance, settings.radiance_quadrature_target);
+    options.mean_change_allowance = settings.step_mean_change_target;
     options.alpha_allowance = settings.step_alpha_target;
     if (!options.step_scales.empty() || (!options.rays_given && !options.rays.empty()))
         out.radiance_quadrature_allowance = options.allowance;

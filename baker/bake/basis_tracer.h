@@ -212,6 +212,12 @@ struct TraceSettings {
     // scripts/bench/accuracy.sh, with these steps as without): the check sees 1/64 of the pixels,
     // and a silhouette between them can move more than the ones it sees.
     double step_alpha_target = 0.001;
+    // ...and the checked pixels' sums, per grid point and source, may move by at most this share
+    // (QuadratureCandidate::mean_change): a sixth of the accuracy suite's bias bar of 0.3%, whose
+    // measured worst is 0.22% (scripts/bench/accuracy.sh), as the midpoint rule's error at a field's
+    // kinks can add up where photon noise cancels. Measured at most 0.004% on the bundled sample's
+    // frame 12 and 0.0005% on it upsampled 4x: each camera ray's own phase keeps it from adding up.
+    double step_mean_change_target = 5e-4;
     // Bytes the trace may use for what it can size (the scattered-light cells): 0 = no limit.
     // planFrameTrace() coarsens the cells until they fit.
     std::uint64_t memory_budget_bytes = 0;
@@ -265,13 +271,16 @@ TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& cam
 // One measured choice of camera_quadrature.h: m x m radiance rays at step_scale times step_voxels.
 // radiance_error: the relative error of the pixels' radiance, as a look sees it (per grid point the
 // emission bins summed, and each light's column), against all n x n rays at step_voxels (for the
-// n x n rays at a coarser step) or at the step taken (for m < n). alpha_error: the largest change of
-// a checked pixel's alpha over every look on the axes' samples against step_voxels (0 for m < n:
-// alpha is from the n x n rays).
+// n x n rays at a coarser step) or at the step taken (for m < n). mean_change: for a coarser step,
+// how much the checked pixels' sums move, per grid point and source as above, the magnitudes
+// weighted by those sums (the image-mean bias a look would see). alpha_error: the largest change of
+// a checked pixel's alpha over every look on the axes' samples against step_voxels. Both 0 for
+// m < n (alpha is from the n x n rays).
 struct QuadratureCandidate {
     int rays_per_axis = 0;
     int step_scale = 1;
     double radiance_error = 0.0;
+    double mean_change = 0.0;
     double alpha_error = 0.0;
 };
 

@@ -38,6 +38,18 @@ void quadratureCheck(const float* row, const float* fine, int points, int column
     }
 }
 
+// sums[g * (1 + lights) + s] += per grid point g, the row's emission bins summed (s = 0) and each
+// light's column (s = 1 + light): what a look sees of a pixel, as quadratureCheck counts it.
+void addSourceSums(const float* row, int points, int columns, int bins, double* sums) {
+    const int sources = 1 + columns - bins;
+    for (int g = 0; g < points; ++g) {
+        const float* r = row + static_cast<std::size_t>(g) * columns;
+        double* to = sums + static_cast<std::size_t>(g) * sources;
+        for (int c = 0; c < bins; ++c) to[0] += r[c];
+        for (int c = bins; c < columns; ++c) to[1 + c - bins] += r[c];
+    }
+}
+
 // Per-row sums of squared differences and squared values, summed over the rows in order:
 // sqrt(sum diff^2 / sum value^2).
 double relativeFrobeniusError(const std::vector<double>& diff2, const std::vector<double>& value2) {
@@ -139,6 +151,10 @@ CameraQuadrature chooseCameraQuadrature(const CameraQuadratureInputs& in, const 
         std::vector<std::vector<double>> diff2(S, std::vector<double>(height, 0.0)),
             value2(S, std::vector<double>(height, 0.0)), alpha(S, std::vector<double>(height, 0.0));
         std::vector<int> seen(height, 0);  // checked pixels a ray of which crossed density, per row
+        // Per row, the checked pixels' source sums (addSourceSums) at the smallest step, and each
+        // coarser step's change of them.
+        const std::size_t sources = static_cast<std::size_t>(tb.points) * (1 + tb.columns - tb.bins);
+        std::vector<std::vector<double>> fine_sums(height), change_sums(S * height);
         tbb::parallel_for(0, height, [&](int py) {
             if (py % stride != stride / 2 || stop.load(std::memory_order_relaxed)) return;
             std::vector<std::unique_ptr<CameraMarch>> marches;  // [0] the smallest step, [1 + t] step_scales[t]
@@ -146,6 +162,9 @@ CameraQuadrature chooseCameraQuadrature(const CameraQuadratureInputs& in, const 
             for (int scale : options.step_scales) marches.push_back(cameraMarch(in, scale));
             std::vector<float> fine(GC), coarse(GC);
             std::vector<double> b0(rays), a0(rays * tb.n_alpha), b1(rays), a1(rays * tb.n_alpha);
+            std::vector<double> pixel_fine(sources), pixel_coarse(sources);
+            fine_sums[py].assign(sources, 0.0);
+            for (std::size_t t = 0; t < S; ++t) change_sums[t * height + py].assign(sources, 0.0);
             for (int px = stride / 2; px < width; px += stride) {
                 fine.assign(GC, 0.0f);
                 marches[0]->beginPixel();
@@ -153,6 +172,9 @@ CameraQuadrature chooseCameraQuadrature(const CameraQuadratureInputs& in, const 
                                     a0.data());
                 if (!std::any_of(b0.begin(), b0.end(), [](double d) { return d > 0.0; })) continue;
                 ++seen[py];
+                std::fill(pixel_fine.begin(), pixel_fine.end(), 0.0);
+                addSourceSums(fine.data(), tb.points, tb.columns, tb.bins, pixel_fine.data());
+                for (std::size_t k = 0; k < sources; ++k) fine_sums[py][k] += pixel_fine[k];
                 for (std::size_t t = 0; t < S; ++t) {
                     coarse.assign(GC, 0.0f);
                     marches[1 + t]->beginPixel();
@@ -160,6 +182,10 @@ CameraQuadrature chooseCameraQuadrature(const CameraQuadratureInputs& in, const 
                                         b1.data(), a1.data());
                     quadratureCheck(coarse.data(), fine.data(), tb.points, tb.columns, tb.bins, diff2[t][py],
                                     value2[t][py]);
+                    std::fill(pixel_coarse.begin(), pixel_coarse.end(), 0.0);
+                    addSourceSums(coarse.data(), tb.points, tb.columns, tb.bins, pixel_coarse.data());
+                    std::vector<double>& change = change_sums[t * height + py];
+                    for (std::size_t k = 0; k < sources; ++k) change[k] += pixel_coarse[k] - pixel_fine[k];
                     alpha[t][py] = std::max(alpha[t][py], worstAlphaChange(tb, n * n, b0.data(), a0.data(),
                                                                            b1.data(), a1.data()));
                 }
@@ -167,11 +193,27 @@ CameraQuadrature chooseCameraQuadrature(const CameraQuadratureInputs& in, const 
         });
         // Too few pixels with density to judge the step by: the smallest.
         const bool judged = std::accumulate(seen.begin(), seen.end(), 0) >= kMinStepCheckPixels;
+        // Each source's sums over the rows, in row order.
+        const auto rowSums = [&](const auto& per_row) {
+            std::vector<double> total(sources, 0.0);
+            for (int py = 0; py < height; ++py)
+                for (std::size_t k = 0; k < per_row(py).size(); ++k) total[k] += per_row(py)[k];
+            return total;
+        };
+        const std::vector<double> fine_total = rowSums([&](int py) -> const std::vector<double>& { return fine_sums[py]; });
+        double fine_sum = 0.0;
+        for (double v : fine_total) fine_sum += std::fabs(v);
         for (std::size_t t = 0; t < S; ++t) {
             const double error = relativeFrobeniusError(diff2[t], value2[t]);
             const double alpha_error = *std::max_element(alpha[t].begin(), alpha[t].end());
-            out.candidates.push_back({n, options.step_scales[t], error, alpha_error});
-            if (judged && error <= options.allowance && alpha_error <= options.alpha_allowance) {
+            const std::vector<double> change =
+                rowSums([&](int py) -> const std::vector<double>& { return change_sums[t * height + py]; });
+            double moved = 0.0;
+            for (double v : change) moved += std::fabs(v);
+            const double mean_change = fine_sum > 0.0 ? moved / fine_sum : 0.0;
+            out.candidates.push_back({n, options.step_scales[t], error, mean_change, alpha_error});
+            if (judged && error <= options.step_allowance && mean_change <= options.mean_change_allowance &&
+                alpha_error <= options.alpha_allowance) {
                 out.step_scale = options.step_scales[t];
                 step_error = error;
             }
@@ -206,7 +248,7 @@ CameraQuadrature chooseCameraQuadrature(const CameraQuadratureInputs& in, const 
         const double left = std::sqrt(std::max(0.0, options.allowance * options.allowance - step_error * step_error));
         for (std::size_t k = 0; k < M; ++k) {
             const double error = relativeFrobeniusError(diff2[k], value2[k]);
-            out.candidates.push_back({options.rays[k], out.step_scale, error, 0.0});
+            out.candidates.push_back({options.rays[k], out.step_scale, error, 0.0, 0.0});
             if (options.rays_given || (out.rays_per_axis == n && error <= left)) {
                 out.rays_per_axis = options.rays[k];
                 rays_error = error;

@@ -49,8 +49,13 @@ struct QuadratureOptions {
     std::vector<int> rays;
     bool rays_given = false;
     std::vector<int> step_scales;  // the coarser steps measured (multiples of min_step above 1), ascending
-    double allowance = 0.0;        // radiance_error a choice may have
-    double alpha_allowance = 0.0;  // alpha_error a coarser step may have
+    double allowance = 0.0;        // radiance_error a choice may have, the step's and the rays' together
+    // What a coarser step alone may have: its radiance_error (TraceSettings::radiance_quadrature_target,
+    // not the share of the photon noise: the midpoint rule's error can be a bias where photon noise is
+    // not), its mean_change and its alpha_error.
+    double step_allowance = 0.0;
+    double mean_change_allowance = 0.0;
+    double alpha_allowance = 0.0;
 };
 
 struct CameraQuadrature {
@@ -66,9 +71,9 @@ struct CameraQuadrature {
 };
 
 // 1. The step: on every stepCheckStride()-th pixel of every such row, all n x n rays at each
-//    coarser step against the smallest; the coarsest whose radiance_error is within the allowance
-//    and whose alpha_error is within alpha_allowance is taken, provided at least
-//    kMinStepCheckPixels of those pixels have density on their rays (else the smallest).
+//    coarser step against the smallest; the coarsest whose radiance_error, mean_change and
+//    alpha_error are within their step allowances is taken, provided at least kMinStepCheckPixels
+//    of those pixels have density on their rays (else the smallest).
 // 2. The radiance rays: on every kQuadratureCheckStride-th pixel of every kQuadratureCheckStride-th
 //    row, all n x n rays at that step against each m; the fewest m whose error is within what the
 //    step left of the allowance (the two add in quadrature) is taken (else n), or the given m.

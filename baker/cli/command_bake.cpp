@@ -77,6 +77,7 @@ void writeReportJson(const std::string& path, const std::string& sequence, const
             candidates.push_back({{"rays_per_axis", c.rays_per_axis},
                                   {"step_scale", c.step_scale},
                                   {"quadrature_error", c.radiance_error},
+                                  {"mean_change", c.mean_change},
                                   {"alpha_error", c.alpha_error}});
         frames[i]["radiance_candidates"] = std::move(candidates);
     }

@@ -261,6 +261,7 @@ bake::TraceSettings traceSettingsOf(const ordered_json& metadata) {
     // And from before the trace chose its step (2026-12-07, fourth session): step_voxels always.
     t.max_step_scale = s.value("max_step_scale", 1);
     t.step_alpha_target = s.value("step_alpha_target", t.step_alpha_target);
+    t.step_mean_change_target = s.value("step_mean_change_target", t.step_mean_change_target);
     return t;
 }
 

@@ -382,6 +382,8 @@ render::Medium blobMedium(bool rough) {
 TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
     TraceSettings defaults;
     EXPECT_EQ(defaults.max_step_scale, 4);
+    EXPECT_EQ(defaults.step_alpha_target, 0.001);
+    EXPECT_EQ(defaults.step_mean_change_target, 5e-4);
     EXPECT_EQ(stepScaleCandidates(defaults), (std::vector<int>{2, 4}));
     defaults.max_step_scale = 1;
     EXPECT_EQ(stepScaleCandidates(defaults), std::vector<int>{});
@@ -391,18 +393,20 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
     // at one offset from the field's kinks, and on a trilinear field their errors then cancel.
     const render::Camera camera =
         render::Camera::lookAt({2.0, 1.6, 1.2}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, degrees(30.0), 32, 32);
-    const auto trace = [&](const render::Medium& medium, int max_step_scale, double alpha_target = 0.001) {
+    const auto trace = [&](const render::Medium& medium, int max_step_scale, double alpha_target = 0.001,
+                           double mean_change_target = 5e-4) {
         TraceSettings t = fastTrace(3);
         t.radiance_quadrature_noise_share = 0.0;  // the fixed 0.15%, not what 2000 photons' noise allows
         t.footprint_samples_per_axis = 4;
         t.max_step_scale = max_step_scale;
         t.step_alpha_target = alpha_target;
+        t.step_mean_change_target = mean_change_target;
         return traceFrameBasis(medium, camera, model, t);
     };
     const double allowance = TraceSettings{}.radiance_quadrature_target;
     // Every coarser step's candidate (n x n rays) and whether it was within both allowances.
     const auto within = [&](const QuadratureCandidate& c) {
-        return c.radiance_error <= allowance && c.alpha_error <= 0.001;
+        return c.radiance_error <= allowance && c.mean_change <= 5e-4 && c.alpha_error <= 0.001;
     };
 
     const render::Medium smooth = blobMedium(false), rough = blobMedium(true);
@@ -416,9 +420,9 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
         EXPECT_EQ(b->radiance_quadrature_allowance, allowance);
         EXPECT_LE(b->radiance_quadrature_error, allowance);
         for (const QuadratureCandidate& c : b->quadrature_candidates)
-            std::printf("[measured] %s: %dx%d rays, step x%d: radiance %.3e, alpha %.3e\n",
+            std::printf("[measured] %s: %dx%d rays, step x%d: radiance %.3e, mean %.3e, alpha %.3e\n",
                         b == &smooth_bake ? "smooth" : "rough", c.rays_per_axis, c.rays_per_axis, c.step_scale,
-                        c.radiance_error, c.alpha_error);
+                        c.radiance_error, c.mean_change, c.alpha_error);
     }
     // The smooth blob: the coarsest step.
     ASSERT_TRUE(within(smooth_bake.quadrature_candidates[1]));
@@ -460,6 +464,26 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
     const double image_error = std::sqrt(diff2 / value2);
     std::printf("[measured] smooth blob, x4 step against step_voxels over the image: %.3e\n", image_error);
     EXPECT_LT(image_error, 2.0 * allowance);
+    // The mean change guards the step on its own: allowed half of what 4 times the step moved the
+    // smooth blob's sums, it takes twice the step (which moved them less).
+    const double half = 0.5 * smooth_bake.quadrature_candidates[1].mean_change;
+    ASSERT_LT(smooth_bake.quadrature_candidates[0].mean_change, half);
+    EXPECT_EQ(trace(smooth, 4, 0.001, half).camera_step_voxels, 2 * TraceSettings{}.step_voxels);
+    // The step's radiance change is held to radiance_quadrature_target alone, not to the share of
+    // the photon noise the radiance rays may take (a midpoint error can be a bias, photon noise not):
+    // with the target at half of what 4 times the step changed and the noise share 100 times that,
+    // twice the step.
+    {
+        TraceSettings t = fastTrace(3);
+        t.footprint_samples_per_axis = 4;
+        t.radiance_quadrature_target = 0.5 * smooth_bake.quadrature_candidates[1].radiance_error;
+        ASSERT_LT(smooth_bake.quadrature_candidates[0].radiance_error, t.radiance_quadrature_target);
+        const FrameBasis probe = traceFrameBasis(smooth, camera, model, t);
+        t.radiance_quadrature_noise_share = 100.0 * t.radiance_quadrature_target / probe.predicted_photon_noise;
+        const FrameBasis held = traceFrameBasis(smooth, camera, model, t);
+        EXPECT_GT(held.radiance_quadrature_allowance, 50.0 * t.radiance_quadrature_target);
+        EXPECT_EQ(held.camera_step_voxels, 2 * TraceSettings{}.step_voxels);
+    }
 
     // The smooth blob far away: a few pixels of the image, fewer than kMinStepCheckPixels of the
     // checked ones, too few to judge a step by, so step_voxels, whatever the errors measured.
