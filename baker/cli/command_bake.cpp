@@ -148,9 +148,10 @@ std::string describeTraceChoice(const bake::BakeConfig& config) {
     char step[224];
     if (t.max_step_scale >= 2)
         std::snprintf(step, sizeof step,
-                      "march step %g voxel, or up to %g voxel where that moves the radiance within the same "
-                      "allowance and alpha by at most %g (chosen per frame)",
-                      t.step_voxels, t.step_voxels * bake::stepScaleCandidates(t).back(), t.step_alpha_target);
+                      "march step %g voxel, or up to %g voxel where that moves the radiance by at most %g%%, "
+                      "its mean by %g%% and alpha by %g (chosen per frame)",
+                      t.step_voxels, t.step_voxels * bake::stepScaleCandidates(t).back(),
+                      100.0 * t.radiance_quadrature_target, 100.0 * t.step_mean_change_target, t.step_alpha_target);
     else
         std::snprintf(step, sizeof step, "march step %g voxel", t.step_voxels);
     char line[800];

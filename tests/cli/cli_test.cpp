@@ -467,7 +467,8 @@ TEST(Cli, BakeQualityPresetIsPrintedRecordedAndPredicted) {
                                            "--quality preview --report report.json");
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
     EXPECT_NE(r.err.find("trace (preview quality): 8x8 footprint rays a pixel for alpha, 2x2 of them for radiance; "
-                         "march step 0.25 voxel"),
+                         "march step 0.25 voxel, or up to 1 voxel where that moves the radiance by at most 0.15%, "
+                         "its mean by 0.05% and alpha by 0.001 (chosen per frame)"),
               std::string::npos)
         << r.err;
     EXPECT_NE(r.out.find("look err %"), std::string::npos) << r.out;
