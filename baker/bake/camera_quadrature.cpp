@@ -80,6 +80,40 @@ double worstAlphaChange(const TraceTables& tb, int rays, const double* b0, const
     return worst;
 }
 
+// Pixel (px, py)'s m x m rays as the camera pass marches them: `to` += their radiance (after
+// beginPixel); with depth_b and depth_a, their optical depths too (0 for a ray that misses the
+// volume), in depth_b[ray] and depth_a[ray * n_alpha + threshold].
+void gatherRays(CameraMarch& ray_march, const std::vector<float>& lbar_sum, int width, int px, int py, int m,
+                float* to, int n_alpha, double* depth_b, double* depth_a) {
+    const float weight = 1.0f / static_cast<float>(m * m);
+    const std::size_t pixel = static_cast<std::size_t>(py) * width + px;
+    for (int ray = 0; ray < m * m; ++ray) {
+        double* ray_b = depth_b ? depth_b + ray : nullptr;
+        double* ray_a = depth_a ? depth_a + ray * n_alpha : nullptr;
+        if (ray_b) {
+            *ray_b = 0.0;
+            std::fill(ray_a, ray_a + n_alpha, 0.0);
+        }
+        ray_march.marchPixelRay(px, py, (ray % m + 0.5) / m, (ray / m + 0.5) / m, m, weight, ray_b, ray_a,
+                                cameraRayPhase(pixel, ray));
+    }
+    addGathered(ray_march, lbar_sum, to);
+}
+
+// Each column's sum over the rows, in row order (rows nobody checked are empty).
+std::vector<double> rowTotals(const std::vector<std::vector<double>>& rows, std::size_t columns) {
+    std::vector<double> total(columns, 0.0);
+    for (const std::vector<double>& row : rows)
+        for (std::size_t k = 0; k < row.size(); ++k) total[k] += row[k];
+    return total;
+}
+
+// A march of the check's rays at step_scale times the smallest step.
+std::unique_ptr<CameraMarch> cameraMarch(const CameraQuadratureInputs& in, int step_scale) {
+    return std::make_unique<CameraMarch>(in.medium, in.tables, in.cells, in.light_depths, in.camera,
+                                         step_scale * in.min_step, in.footprint_step, !in.lbar_sum.empty());
+}
+
 }  // namespace
 
 double cameraRayPhase(std::size_t pixel, int ray) {
@@ -95,38 +129,8 @@ void addGathered(const CameraMarch& ray_march, const std::vector<float>& lbar_su
 
 void gatherRadianceRays(CameraMarch& ray_march, const std::vector<float>& lbar_sum, int width, int px, int py,
                         int m, float* to) {
-    const float weight = 1.0f / static_cast<float>(m * m);
-    const std::size_t pixel = static_cast<std::size_t>(py) * width + px;
-    for (int sample = 0; sample < m * m; ++sample)
-        ray_march.marchPixelRay(px, py, (sample % m + 0.5) / m, (sample / m + 0.5) / m, m, weight, nullptr,
-                                nullptr, cameraRayPhase(pixel, sample));
-    addGathered(ray_march, lbar_sum, to);
+    gatherRays(ray_march, lbar_sum, width, px, py, m, to, 0, nullptr, nullptr);
 }
-
-namespace {
-
-// The footprint's n x n rays of pixel (px, py) as the camera pass marches them where they all carry
-// radiance: `to` += their radiance (after beginPixel), and their optical depths (0 for a ray that
-// misses the volume) in depth_b[ray] and depth_a[ray * n_alpha + threshold].
-void gatherFootprintRays(CameraMarch& ray_march, const std::vector<float>& lbar_sum, int n_alpha, int width,
-                         int px, int py, int n, float* to, double* depth_b, double* depth_a) {
-    const float weight = 1.0f / static_cast<float>(n * n);
-    const std::size_t pixel = static_cast<std::size_t>(py) * width + px;
-    for (int ray = 0; ray < n * n; ++ray) {
-        depth_b[ray] = 0.0;
-        std::fill(depth_a + ray * n_alpha, depth_a + (ray + 1) * n_alpha, 0.0);
-        ray_march.marchPixelRay(px, py, (ray % n + 0.5) / n, (ray / n + 0.5) / n, n, weight, depth_b + ray,
-                                depth_a + ray * n_alpha, cameraRayPhase(pixel, ray));
-    }
-    addGathered(ray_march, lbar_sum, to);
-}
-
-std::unique_ptr<CameraMarch> cameraMarch(const CameraQuadratureInputs& in, int step_scale) {
-    return std::make_unique<CameraMarch>(in.medium, in.tables, in.cells, in.light_depths, in.camera,
-                                         step_scale * in.min_step, in.footprint_step, !in.lbar_sum.empty());
-}
-
-}  // namespace
 
 int stepCheckStride(int width, int height) {
     const double per_axis = std::sqrt(double(width) * height / kStepCheckPixels);
@@ -154,7 +158,8 @@ CameraQuadrature chooseCameraQuadrature(const CameraQuadratureInputs& in, const 
         // Per row, the checked pixels' source sums (addSourceSums) at the smallest step, and each
         // coarser step's change of them.
         const std::size_t sources = static_cast<std::size_t>(tb.points) * (1 + tb.columns - tb.bins);
-        std::vector<std::vector<double>> fine_sums(height), change_sums(S * height);
+        std::vector<std::vector<double>> fine_sums(height);
+        std::vector<std::vector<std::vector<double>>> change_sums(S, std::vector<std::vector<double>>(height));
         tbb::parallel_for(0, height, [&](int py) {
             if (py % stride != stride / 2 || stop.load(std::memory_order_relaxed)) return;
             std::vector<std::unique_ptr<CameraMarch>> marches;  // [0] the smallest step, [1 + t] step_scales[t]
@@ -164,12 +169,12 @@ CameraQuadrature chooseCameraQuadrature(const CameraQuadratureInputs& in, const 
             std::vector<double> b0(rays), a0(rays * tb.n_alpha), b1(rays), a1(rays * tb.n_alpha);
             std::vector<double> pixel_fine(sources), pixel_coarse(sources);
             fine_sums[py].assign(sources, 0.0);
-            for (std::size_t t = 0; t < S; ++t) change_sums[t * height + py].assign(sources, 0.0);
+            for (std::size_t t = 0; t < S; ++t) change_sums[t][py].assign(sources, 0.0);
             for (int px = stride / 2; px < width; px += stride) {
                 fine.assign(GC, 0.0f);
                 marches[0]->beginPixel();
-                gatherFootprintRays(*marches[0], in.lbar_sum, tb.n_alpha, width, px, py, n, fine.data(), b0.data(),
-                                    a0.data());
+                gatherRays(*marches[0], in.lbar_sum, width, px, py, n, fine.data(), tb.n_alpha, b0.data(),
+                           a0.data());
                 if (!std::any_of(b0.begin(), b0.end(), [](double d) { return d > 0.0; })) continue;
                 ++seen[py];
                 std::fill(pixel_fine.begin(), pixel_fine.end(), 0.0);
@@ -178,13 +183,13 @@ CameraQuadrature chooseCameraQuadrature(const CameraQuadratureInputs& in, const 
                 for (std::size_t t = 0; t < S; ++t) {
                     coarse.assign(GC, 0.0f);
                     marches[1 + t]->beginPixel();
-                    gatherFootprintRays(*marches[1 + t], in.lbar_sum, tb.n_alpha, width, px, py, n, coarse.data(),
-                                        b1.data(), a1.data());
+                    gatherRays(*marches[1 + t], in.lbar_sum, width, px, py, n, coarse.data(), tb.n_alpha,
+                               b1.data(), a1.data());
                     quadratureCheck(coarse.data(), fine.data(), tb.points, tb.columns, tb.bins, diff2[t][py],
                                     value2[t][py]);
                     std::fill(pixel_coarse.begin(), pixel_coarse.end(), 0.0);
                     addSourceSums(coarse.data(), tb.points, tb.columns, tb.bins, pixel_coarse.data());
-                    std::vector<double>& change = change_sums[t * height + py];
+                    std::vector<double>& change = change_sums[t][py];
                     for (std::size_t k = 0; k < sources; ++k) change[k] += pixel_coarse[k] - pixel_fine[k];
                     alpha[t][py] = std::max(alpha[t][py], worstAlphaChange(tb, n * n, b0.data(), a0.data(),
                                                                            b1.data(), a1.data()));
@@ -193,23 +198,13 @@ CameraQuadrature chooseCameraQuadrature(const CameraQuadratureInputs& in, const 
         });
         // Too few pixels with density to judge the step by: the smallest.
         const bool judged = std::accumulate(seen.begin(), seen.end(), 0) >= kMinStepCheckPixels;
-        // Each source's sums over the rows, in row order.
-        const auto rowSums = [&](const auto& per_row) {
-            std::vector<double> total(sources, 0.0);
-            for (int py = 0; py < height; ++py)
-                for (std::size_t k = 0; k < per_row(py).size(); ++k) total[k] += per_row(py)[k];
-            return total;
-        };
-        const std::vector<double> fine_total = rowSums([&](int py) -> const std::vector<double>& { return fine_sums[py]; });
         double fine_sum = 0.0;
-        for (double v : fine_total) fine_sum += std::fabs(v);
+        for (double v : rowTotals(fine_sums, sources)) fine_sum += std::fabs(v);
         for (std::size_t t = 0; t < S; ++t) {
             const double error = relativeFrobeniusError(diff2[t], value2[t]);
             const double alpha_error = *std::max_element(alpha[t].begin(), alpha[t].end());
-            const std::vector<double> change =
-                rowSums([&](int py) -> const std::vector<double>& { return change_sums[t * height + py]; });
             double moved = 0.0;
-            for (double v : change) moved += std::fabs(v);
+            for (double v : rowTotals(change_sums[t], sources)) moved += std::fabs(v);
             const double mean_change = fine_sum > 0.0 ? moved / fine_sum : 0.0;
             out.candidates.push_back({n, options.step_scales[t], error, mean_change, alpha_error});
             if (judged && error <= options.step_allowance && mean_change <= options.mean_change_allowance &&

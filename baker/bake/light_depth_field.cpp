@@ -93,9 +93,19 @@ LightDepthField buildLightDepths(const render::Medium& medium, const BasisModel&
     const auto report = [&](int light, int tasks) {
         return !progress || progress((light + double(++layers_done) / tasks) / tb.lights);
     };
-    const auto pointIndex = [&](const glm::ivec3& q) {
-        return static_cast<std::size_t>(q.x) +
-               static_cast<std::size_t>(field.count.x) * (q.y + static_cast<std::size_t>(field.count.y) * q.z);
+    // One march step's smoke and flame optical depths per T_c, added to a point's.
+    const auto addStep = [&](float rho, float t, float dt, float* smoke, float* flame) {
+        float s[kMaxAxisSamples], f[kMaxAxisSamples];
+        tb.split(rho, t, s, f);
+        tb.advanceDepths(s, f, dt, smoke, flame);
+    };
+    const auto store = [&](int light, const glm::ivec3& q, const float* smoke, const float* flame) {
+        const std::size_t point = static_cast<std::size_t>(q.x) +
+                                  static_cast<std::size_t>(field.count.x) *
+                                      (q.y + static_cast<std::size_t>(field.count.y) * q.z);
+        float* out = field.depths.data() + (light * points + point) * 2 * tb.n_tc;
+        std::copy(smoke, smoke + tb.n_tc, out);
+        std::copy(flame, flame + tb.n_tc, out + tb.n_tc);
     };
     for (int l = 0; l < tb.lights && !stop.load(); ++l) {
         layers_done = 0;
@@ -114,11 +124,9 @@ LightDepthField buildLightDepths(const render::Medium& medium, const BasisModel&
             const int toward = index_direction[axis] > 0.0 ? 1 : -1;
             tbb::parallel_for(0, field.count[v], [&](int j) {
                 if (stop.load(std::memory_order_relaxed)) return;
-                float smoke[kMaxAxisSamples], flame[kMaxAxisSamples], s[kMaxAxisSamples], f[kMaxAxisSamples];
+                float smoke[kMaxAxisSamples], flame[kMaxAxisSamples];
                 const auto add = [&](const glm::dvec3&, float dt, float rho, float t) {
-                    if (rho <= 0.0f) return true;
-                    tb.split(rho, t, s, f);
-                    tb.advanceDepths(s, f, dt, smoke, flame);
+                    if (rho > 0.0f) addStep(rho, t, dt, smoke, flame);
                     return true;
                 };
                 for (int i = 0; i < field.count[u]; ++i) {
@@ -138,9 +146,7 @@ LightDepthField buildLightDepths(const render::Medium& medium, const BasisModel&
                         } else {
                             march(medium, ray, 0.0, between, step, add);
                         }
-                        float* out = field.depths.data() + (l * points + pointIndex(q)) * 2 * tb.n_tc;
-                        std::copy(smoke, smoke + tb.n_tc, out);
-                        std::copy(flame, flame + tb.n_tc, out + tb.n_tc);
+                        store(l, q, smoke, flame);
                     }
                 }
                 if (!report(l, field.count[v])) stop.store(true);
@@ -149,7 +155,7 @@ LightDepthField buildLightDepths(const render::Medium& medium, const BasisModel&
         }
         tbb::parallel_for(0, field.count.z, [&](int z) {
             if (stop.load(std::memory_order_relaxed)) return;
-            float smoke[kMaxAxisSamples], flame[kMaxAxisSamples], s[kMaxAxisSamples], f[kMaxAxisSamples];
+            float smoke[kMaxAxisSamples], flame[kMaxAxisSamples];
             for (int y = 0; y < field.count.y; ++y)
                 for (int x = 0; x < field.count.x; ++x) {
                     const glm::dvec3 p = field.origin + glm::dvec3(x, y, z) * static_cast<double>(spacing);
@@ -162,16 +168,10 @@ LightDepthField buildLightDepths(const render::Medium& medium, const BasisModel&
                     std::fill(flame, flame + tb.n_tc, 0.0f);
                     march(medium, ray, 0.0, t1, step, [&](const glm::dvec3&, float dt, float rho, float t) {
                         if (rho <= 0.0f) return true;
-                        tb.split(rho, t, s, f);
-                        tb.advanceDepths(s, f, dt, smoke, flame);
+                        addStep(rho, t, dt, smoke, flame);
                         return tb.minDepthOfLeastExtinction(smoke, flame) < kNegligibleDepth;
                     });
-                    float* out = field.depths.data() +
-                                 (l * points + x + static_cast<std::size_t>(field.count.x) *
-                                                       (y + static_cast<std::size_t>(field.count.y) * z)) *
-                                     2 * tb.n_tc;
-                    std::copy(smoke, smoke + tb.n_tc, out);
-                    std::copy(flame, flame + tb.n_tc, out + tb.n_tc);
+                    store(l, glm::ivec3(x, y, z), smoke, flame);
                 }
             if (!report(l, field.count.z)) stop.store(true);
         });
