@@ -131,6 +131,7 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
                        "radiance_quadrature_target",
                        "radiance_quadrature_noise_share",
                        "max_step_scale",
+                       "step_radiance_target",
                        "step_alpha_target",
                        "step_mean_change_target"},
                       "trace");
@@ -157,6 +158,7 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             c.trace.radiance_quadrature_noise_share =
                 t.value("radiance_quadrature_noise_share", c.trace.radiance_quadrature_noise_share);
             c.trace.max_step_scale = t.value("max_step_scale", c.trace.max_step_scale);
+            c.trace.step_radiance_target = t.value("step_radiance_target", c.trace.step_radiance_target);
             c.trace.step_alpha_target = t.value("step_alpha_target", c.trace.step_alpha_target);
             c.trace.step_mean_change_target = t.value("step_mean_change_target", c.trace.step_mean_change_target);
         }
@@ -191,7 +193,8 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             c.trace.footprint_samples_per_axis > 8 || c.trace.radiance_samples_per_axis < 0 ||
             c.trace.radiance_samples_per_axis > 8 || !(c.trace.radiance_quadrature_target >= 0.0) ||
             !(c.trace.radiance_quadrature_noise_share >= 0.0) || c.trace.max_step_scale < 1 ||
-            c.trace.max_step_scale > 16 || !(c.trace.step_alpha_target >= 0.0) ||
+            c.trace.max_step_scale > 16 || !(c.trace.step_radiance_target >= 0.0) ||
+            !(c.trace.step_alpha_target >= 0.0) ||
             !(c.trace.step_mean_change_target >= 0.0) || !(c.trace.photon_noise_target >= 0.0) ||
             c.trace.max_photon_scale < 1 || c.trace.max_photon_scale > 64 ||
             !(c.trace.photon_pilot_share > 0.0 && c.trace.photon_pilot_share <= 1.0) ||
@@ -203,7 +206,8 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
                 "footprint ray) and radiance_quadrature_noise_share (>= 0); "
                 "photon_noise_target >= 0, 0 = the photons as given; max_photon_scale 1..64; "
                 "photon_pilot_share and min_order_photon_share in (0, 1]; cell_pixel_footprints >= 0, 0 = "
-                "off; max_step_scale 1..16, 1 = step_voxels always; step_alpha_target and step_mean_change_target >= 0)");
+                "off; max_step_scale 1..16, 1 = step_voxels always; step_radiance_target, step_alpha_target and "
+                "step_mean_change_target >= 0)");
     } catch (const Error& e) {
         throw Error(e.code(), file.string() + ": " + e.what());
     } catch (const std::exception& e) {  // nlohmann-json's: the file is not the JSON a config is
@@ -345,6 +349,7 @@ std::string configToJson(const BakeConfig& c) {
                   {"radiance_quadrature_target", c.trace.radiance_quadrature_target},
                   {"radiance_quadrature_noise_share", c.trace.radiance_quadrature_noise_share},
                   {"max_step_scale", c.trace.max_step_scale},
+                  {"step_radiance_target", c.trace.step_radiance_target},
                   {"step_alpha_target", c.trace.step_alpha_target},
                   {"step_mean_change_target", c.trace.step_mean_change_target}};
     j["compression"] = {{"target_relative_error", c.compression.target_relative_error},

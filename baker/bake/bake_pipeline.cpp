@@ -53,6 +53,21 @@ nlohmann::ordered_json storageTargetEntry(const FrameBakeReport& fr) {
             {"footprint_error", fr.storage_used.footprint_error}};
 }
 
+nlohmann::ordered_json lightStepsJson(const std::vector<LightStep>& steps, bool candidates) {
+    nlohmann::ordered_json lights = nlohmann::ordered_json::array();
+    for (const LightStep& light : steps) {
+        nlohmann::ordered_json entry = {{"step_voxels", light.step_voxels}, {"source_error", light.source_error}};
+        if (candidates) {
+            entry["candidates"] = nlohmann::ordered_json::array();
+            for (const LightStepCandidate& c : light.candidates)
+                entry["candidates"].push_back(
+                    {{"step_scale", c.step_scale}, {"source_error", c.source_error}, {"mean_change", c.mean_change}});
+        }
+        lights.push_back(std::move(entry));
+    }
+    return lights;
+}
+
 uint64_t defaultMemoryBudget() {
     const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
     if (pages <= 0 || page <= 0) return uint64_t(4) << 30;
@@ -166,6 +181,8 @@ nlohmann::ordered_json errorsEntry(const FrameBakeReport& fr) {
         {"radiance_rays_per_axis", fr.radiance_rays_per_axis},
         {"footprint_rays_per_axis", fr.footprint_rays_per_axis},
         {"camera_step_voxels", fr.camera_step_voxels},
+        {"depth_step_voxels", fr.depth_step_voxels},
+        {"light_steps", lightStepsJson(fr.light_steps, false)},
         {"predicted_look_error", fr.predictedLookError()}};
     if (fr.has_target) entry["storage_target"] = storageTargetEntry(fr);
     return entry;
@@ -196,6 +213,12 @@ FrameBakeReport reportFromMetadata(int frame, const FrameMetadata& kept) {
     fr.radiance_rays_per_axis = e.value("radiance_rays_per_axis", 0);  // before 2026-12-07: not recorded
     fr.footprint_rays_per_axis = e.value("footprint_rays_per_axis", 0);
     fr.camera_step_voxels = e.value("camera_step_voxels", 0.0);  // before 2026-12-07 (fourth session): not recorded
+    // Before 2026-12-07 (fifth session) the depth-only rays marched at the radiance rays' step.
+    fr.depth_step_voxels = e.value("depth_step_voxels", fr.camera_step_voxels);
+    // ...and the light depths' step was not measured (0: not recorded).
+    if (e.contains("light_steps"))
+        for (const auto& light : e.at("light_steps"))
+            fr.light_steps.push_back({0, light.at("step_voxels"), light.at("source_error"), {}});
     // Before the pilot chains (2026-12-06) every chain held half the settings' photons.
     fr.photon_multiple = e.value("photon_multiple", 0.5 * fr.photon_chains);
     fr.order_photon_share = e.value("order_photon_share", 1.0);  // before 2026-12-06 every order had its photons
@@ -405,10 +428,13 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         fr.radiance_quadrature_allowance = traced.radiance_quadrature_allowance;
         fr.quadrature_candidates = traced.quadrature_candidates;
         fr.camera_step_voxels = traced.camera_step_voxels;
+        fr.depth_step_voxels = traced.depth_step_voxels;
+        fr.light_steps = traced.light_steps;
         fr.setup_seconds = traced.seconds_setup;
         fr.light_seconds = traced.seconds_light;
         fr.photon_seconds = traced.seconds_photons;
         fr.camera_seconds = traced.seconds_camera;
+        fr.check_seconds = traced.seconds_checks;
 
         t0 = std::chrono::steady_clock::now();
         const FramePrecision chosen =

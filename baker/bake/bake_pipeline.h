@@ -46,9 +46,18 @@ struct FrameBakeReport {
     // The m of the m x m radiance rays a pixel the frame was traced with, and the n of its footprint
     // rays (TraceSettings::radiance_quadrature_target chooses m per frame).
     int radiance_rays_per_axis = 0, footprint_rays_per_axis = 0;
-    // The camera rays' smallest step, in voxels (FrameBasis::camera_step_voxels; 0 in packages from
-    // before it was recorded).
-    double camera_step_voxels = 0.0;
+    // The radiance rays' and the depth-only rays' smallest steps, in voxels
+    // (FrameBasis::camera_step_voxels and depth_step_voxels; 0 in packages from before they were
+    // recorded).
+    double camera_step_voxels = 0.0, depth_step_voxels = 0.0;
+    // Each light's depths' march step and its measured source error (FrameBasis::light_steps; none
+    // in packages from before they were chosen), with every step measured (--report only).
+    std::vector<LightStep> light_steps;
+    double lightStepError() const {
+        double worst = 0.0;
+        for (const LightStep& light : light_steps) worst = std::max(worst, light.source_error);
+        return worst;
+    }
     // Each choice of radiance rays and step the trace measured, and the error it allowed
     // (FrameBasis::quadrature_candidates and radiance_quadrature_allowance; --report only).
     std::vector<QuadratureCandidate> quadrature_candidates;
@@ -61,7 +70,8 @@ struct FrameBakeReport {
     double predictedLookError() const {
         return std::sqrt(truncation_error * truncation_error + quantisation_error * quantisation_error +
                          predicted_photon_noise * predicted_photon_noise +
-                         radiance_quadrature_error * radiance_quadrature_error);
+                         radiance_quadrature_error * radiance_quadrature_error +
+                         lightStepError() * lightStepError());
     }
     double trace_seconds = 0.0;
     double compress_seconds = 0.0;
@@ -70,7 +80,8 @@ struct FrameBakeReport {
     int light_spacing_voxels = 0;
     double cell_optical_depth = 0.0;
     double pixel_footprint_voxels = 0.0;  // what the cells were sized against (not kept for resumed frames)
-    double setup_seconds = 0.0, light_seconds = 0.0, photon_seconds = 0.0, camera_seconds = 0.0;
+    double setup_seconds = 0.0, light_seconds = 0.0, photon_seconds = 0.0, camera_seconds = 0.0,
+           check_seconds = 0.0;
     uint64_t estimated_peak_bytes = 0;
     uint64_t active_voxels = 0;
     uint64_t columns_traced = 0;  // basis columns: grid points x (bins + lights)
@@ -104,6 +115,10 @@ struct BakeReport {
 // What a --target-size or --target-error chose for a frame, as META's errors[].storage_target and
 // the --report JSON record it (null without a target).
 nlohmann::ordered_json storageTargetEntry(const FrameBakeReport& frame);
+
+// Each light's step as META's errors[].light_steps records it (step_voxels, source_error), with
+// every step measured where `candidates` (the --report JSON).
+nlohmann::ordered_json lightStepsJson(const std::vector<LightStep>& steps, bool candidates);
 
 // The default --memory-budget: 60% of the machine's physical memory (the rest for the system and
 // whatever runs beside the bake).

@@ -219,7 +219,8 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     out.footprint_samples = per_axis * per_axis;
     const int given_per_axis = radianceSamplesPerAxis(settings, per_axis);
     out.radiance_samples = given_per_axis * given_per_axis;  // until the camera pass measures
-    out.camera_step_voxels = settings.step_voxels;           // and its step
+    out.camera_step_voxels = settings.step_voxels;           // and its steps
+    out.depth_step_voxels = settings.step_voxels;
     out.depth_b.assign(pixels * out.footprint_samples, 0.0f);
     out.depth_a.assign(pixels * out.footprint_samples * tb.n_alpha, 0.0f);
     if (medium.empty()) return out;
@@ -240,8 +241,17 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     gate.checkpoint(0.02);
     if (cells.slots == 0) return out;
     out.seconds_setup = lapSeconds(clock);
+    // The light depths' step, measured on a sparse lattice (light_depth_field.h), as the camera
+    // rays' is below.
+    out.light_steps = chooseLightSteps(medium, model, tb, cells, plan.light_spacing_voxels, settings.step_voxels,
+                                       stepScaleCandidates(settings), settings.step_radiance_target,
+                                       settings.step_mean_change_target, gate.stopFlag());
+    gate.throwIfStopped();
+    out.seconds_checks = lapSeconds(clock);
+    std::vector<double> light_step_voxels;
+    for (const LightStep& light : out.light_steps) light_step_voxels.push_back(light.step_voxels);
     const LightDepthField light_depths =
-        buildLightDepths(medium, model, tb, cells, plan.light_spacing_voxels, settings.step_voxels, stage(0.02, 0.05));
+        buildLightDepths(medium, model, tb, cells, plan.light_spacing_voxels, light_step_voxels, stage(0.02, 0.05));
     gate.checkpoint(0.05);
     out.seconds_light = lapSeconds(clock);
 
@@ -304,7 +314,7 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     options.step_scales = stepScaleCandidates(settings);
     options.allowance = std::max(settings.radiance_quadrature_target,
                                  settings.radiance_quadrature_noise_share * out.predicted_photon_noise);
-    options.step_allowance = std::min(options.allowance, settings.radiance_quadrature_target);
+    options.step_allowance = std::min(options.allowance, settings.step_radiance_target);
     options.mean_change_allowance = settings.step_mean_change_target;
     options.alpha_allowance = settings.step_alpha_target;
     if (!options.step_scales.empty() || (!options.rays_given && !options.rays.empty()))
@@ -313,17 +323,22 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                                                    min_step, settings.footprint_step, per_axis};
     const CameraQuadrature quadrature = chooseCameraQuadrature(quadrature_inputs, options, gate.stopFlag());
     gate.throwIfStopped();
+    out.seconds_checks += lapSeconds(clock);
     const int radiance_per_axis = quadrature.rays_per_axis;
     out.radiance_quadrature_error = quadrature.radiance_error;
     out.quadrature_candidates = quadrature.candidates;
     out.camera_step_voxels = settings.step_voxels * quadrature.step_scale;
+    out.depth_step_voxels = settings.step_voxels * quadrature.depth_step_scale;
     const double camera_step = quadrature.step_scale * min_step;
+    const double depth_step = quadrature.depth_step_scale * min_step;
     out.radiance_samples = radiance_per_axis * radiance_per_axis;
-    const bool shared = radiance_per_axis == per_axis;
+    const bool shared = radiance_per_axis == per_axis && quadrature.step_scale == quadrature.depth_step_scale;
     std::atomic<int> rows_done{0};
     tbb::parallel_for(tbb::blocked_range<int>(0, out.height, 4), [&](const tbb::blocked_range<int>& rows) {
-        CameraMarch ray_march(medium, tb, cells, light_depths, camera, camera_step, settings.footprint_step,
+        CameraMarch ray_march(medium, tb, cells, light_depths, camera, depth_step, settings.footprint_step,
                               !lbar_sum.empty());
+        CameraMarch radiance_march(medium, tb, cells, light_depths, camera, camera_step, settings.footprint_step,
+                                   !lbar_sum.empty());
         std::vector<double> depth_a(tb.n_alpha);
         const float radiance_weight = 1.0f / static_cast<float>(out.radiance_samples);
         for (int py = rows.begin(); py != rows.end(); ++py) {
@@ -350,7 +365,8 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                     addGathered(ray_march, lbar_sum, row);
                     continue;
                 }
-                gatherRadianceRays(ray_march, lbar_sum, out.width, px, py, radiance_per_axis, row);
+                radiance_march.beginPixel();
+                gatherRadianceRays(radiance_march, lbar_sum, out.width, px, py, radiance_per_axis, row);
             }
             gate.report(0.6 + 0.4 * (rows_done.fetch_add(1) + 1) / out.height);
         }

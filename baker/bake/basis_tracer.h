@@ -22,8 +22,9 @@
 //   3. Camera rays march the exact fine-resolution medium and integrate
 //      tau * (Q0 + sigma_s * sum of Lbar) for every grid point and column; the
 //      per-pixel optical depths for exact alpha come from the same march. Their step follows the
-//      pixel footprint, never finer than step_voxels or the coarser step the frame's measured
-//      quadrature allows (camera_quadrature.h, TraceSettings::max_step_scale).
+//      pixel footprint, never finer than step_voxels or the coarser steps the frame's measured
+//      quadrature allows, one for the radiance rays and one for alpha's depth-only rays
+//      (camera_quadrature.h, TraceSettings::max_step_scale).
 // Errors: quadrature of the marches, Monte Carlo noise of the photon tracks, and the
 // interpolation of Lbar between cell centres.
 // Memory: planFrameTrace() says what a frame needs before any tracing; nothing is stored per
@@ -197,17 +198,31 @@ struct TraceSettings {
     // was 0.505% / 0.601% (median / worst) against 0.474% / 0.568% with every ray. 0: the target
     // alone (the bakes before 2026-12-07's second session).
     double radiance_quadrature_noise_share = 0.3;
-    // The camera rays' smallest step may be step_voxels times 2, 4, ... up to this, chosen per frame
-    // before the radiance rays (camera_quadrature.h): the coarsest step at which all footprint rays'
-    // radiance is within the allowance above of theirs at step_voxels, and whose pixels' alpha moves
-    // by at most step_alpha_target for any look on the axes; the radiance rays then get what it
-    // leaves of the allowance. The midpoint rule's error is the field's, not the step's alone: a
-    // field smooth at the voxel scale (frame 12 of the bundled sample upsampled 4x) loses nothing
-    // the check sees at 1 voxel, and its camera rays took 11.3 s against 29.0 s at 256x256; the
-    // sample's frames 3 and 7 keep 0.25 (alpha moves 0.003-0.004 at 0.5), frames 11, 12 and the
-    // smoke's frame 20 take 0.5. 1: step_voxels always (the bakes before 2026-12-07's fourth
-    // session).
-    int max_step_scale = 4;
+    // The smallest steps may be step_voxels times 2, 4, ... up to this, chosen per frame by what
+    // each changes on a sparse sample (camera_quadrature.h, light_depth_field.h), each step by its
+    // own criteria:
+    // - the radiance rays': the coarsest at which all footprint rays' radiance is within
+    //   step_radiance_target of theirs at step_voxels and its sums move by at most
+    //   step_mean_change_target, up to twice alpha's (kRadianceStepOverDepthStep); the radiance
+    //   rays' m then gets what it leaves of the allowance;
+    // - alpha's depth-only rays': the coarsest whose pixels' alpha moves by at most
+    //   step_alpha_target for any look on the axes;
+    // - each light's depths' (toward the lights the step is step_voxels times the lattice's
+    //   spacing): the coarsest whose lit source moves within step_radiance_target (relative norm)
+    //   and step_mean_change_target (its sum).
+    // The midpoint rule's error is the field's, not the step's alone: frame 12 of the bundled
+    // sample upsampled 4x (smooth at the voxel scale) takes 4 voxels for radiance, 1 for alpha and
+    // 1.5 toward its key light, and its camera rays and checks took 6.6 s against 11.1 s at
+    // 256x256 with one step of at most 1 voxel; the sample's own frames keep 0.25-0.5 for alpha and
+    // take 0.5-1 for radiance. 1: step_voxels always (the bakes before 2026-12-07's fourth session).
+    int max_step_scale = 16;
+    // What a coarser step may move of the radiance (and of each light's lit source): half of
+    // radiance_quadrature_target, so that the radiance rays' m keeps most of the allowance. Not
+    // the photon noise's share, because a midpoint error can be a bias where photon noise is not.
+    // At the whole target, the accuracy suite's smoke frame took its radiance rays to 1 voxel at
+    // a measured 0.137%, their 2x2 rays then 0.264% of the noise share's allowance, and dense
+    // smoke at albedo 0.95 had its median look error rise from 0.38% to 0.47% (the bar is 0.5%).
+    double step_radiance_target = 0.00075;
     // A fifth of the bake's alpha bar of 0.005 (its measured worst is at most 0.0029 on
     // scripts/bench/accuracy.sh, with these steps as without): the check sees 1/64 of the pixels,
     // and a silhouette between them can move more than the ones it sees.
@@ -284,6 +299,25 @@ struct QuadratureCandidate {
     double alpha_error = 0.0;
 };
 
+// What a march toward the lights at step_scale times the finest step changes, on every
+// kLightStepCheckStride-th lattice point of each axis near density (light_depth_field.h, chooseLightStep).
+struct LightStepCandidate {
+    int step_scale = 1;
+    // The single-scatter source sigma_s tau_light at the checked points against the finest step's,
+    // per grid point and light: the relative Frobenius norm of the difference, the points weighted
+    // by their density (the source's other factor); and the relative change of its sum (a bias).
+    double source_error = 0.0;
+    double mean_change = 0.0;
+};
+
+// One light's depths' step as chooseLightSteps took it, and every step it measured.
+struct LightStep {
+    int step_scale = 1;
+    double step_voxels = 0.0;   // the march step taken, in voxels
+    double source_error = 0.0;  // the one taken's (0 at the finest step)
+    std::vector<LightStepCandidate> candidates;
+};
+
 struct FrameBasis {
     int width = 0;
     int height = 0;
@@ -303,7 +337,11 @@ struct FrameBasis {
     // at each coarser step of stepScaleCandidates, then the m of radianceCandidates (or the given m
     // where it was fewer than n) at the step taken; empty where nothing was measured.
     std::vector<QuadratureCandidate> quadrature_candidates;
-    double camera_step_voxels = 0.0;  // the camera rays' smallest step taken, in voxels
+    double camera_step_voxels = 0.0;  // the radiance rays' smallest step taken, in voxels
+    double depth_step_voxels = 0.0;   // the depth-only rays' (alpha's), in voxels
+    // Each light's depths' march step, as chooseLightSteps took it (its source_error is part of the
+    // predicted look error).
+    std::vector<LightStep> light_steps;
     std::vector<float> depth_b;   // O_b: footprint sample x pixel
     std::vector<float> depth_a;   // O_a: footprint sample x alpha threshold x pixel
     int scattering_orders = 0;          // orders traced
@@ -316,8 +354,10 @@ struct FrameBasis {
     int cell_edge_voxels = 0;           // what the plan chose
     int light_spacing_voxels = 0;
     double cell_optical_depth = 0.0;
-    // Seconds spent per stage (for the bake report; not stored in packages).
-    double seconds_setup = 0.0, seconds_light = 0.0, seconds_photons = 0.0, seconds_camera = 0.0;
+    // Seconds spent per stage (for the bake report; not stored in packages): seconds_checks is the
+    // light depths' and the camera rays' step checks, which the other stages leave out.
+    double seconds_setup = 0.0, seconds_light = 0.0, seconds_photons = 0.0, seconds_camera = 0.0,
+           seconds_checks = 0.0;
 };
 
 // progress(fraction) returns false to cancel; traceFrameBasis then throws

@@ -50,9 +50,8 @@ struct QuadratureOptions {
     bool rays_given = false;
     std::vector<int> step_scales;  // the coarser steps measured (multiples of min_step above 1), ascending
     double allowance = 0.0;        // radiance_error a choice may have, the step's and the rays' together
-    // What a coarser step alone may have: its radiance_error (TraceSettings::radiance_quadrature_target,
-    // not the share of the photon noise: the midpoint rule's error can be a bias where photon noise is
-    // not), its mean_change and its alpha_error.
+    // What a coarser step alone may have: its radiance_error (TraceSettings::step_radiance_target,
+    // at most `allowance`), its mean_change and its alpha_error.
     double step_allowance = 0.0;
     double mean_change_allowance = 0.0;
     double alpha_allowance = 0.0;
@@ -60,7 +59,8 @@ struct QuadratureOptions {
 
 struct CameraQuadrature {
     int rays_per_axis = 0;
-    int step_scale = 1;
+    int step_scale = 1;        // the radiance rays' smallest step, in min_step
+    int depth_step_scale = 1;  // the depth-only rays' (alpha's), in min_step
     // The chosen one's error against all n x n rays at the smallest step: the step's and the rays'
     // (at that step) in quadrature; 0 for all n x n rays at the smallest step.
     double radiance_error = 0.0;
@@ -70,10 +70,11 @@ struct CameraQuadrature {
     std::vector<QuadratureCandidate> candidates;
 };
 
-// 1. The step: on every stepCheckStride()-th pixel of every such row, all n x n rays at each
-//    coarser step against the smallest; the coarsest whose radiance_error, mean_change and
-//    alpha_error are within their step allowances is taken, provided at least kMinStepCheckPixels
-//    of those pixels have density on their rays (else the smallest).
+// 1. The steps: on every stepCheckStride()-th pixel of every such row, all n x n rays at each
+//    coarser step against the smallest. Alpha's depth-only rays take the coarsest whose
+//    alpha_error is within its allowance; the radiance rays the coarsest whose radiance_error and
+//    mean_change are, up to kRadianceStepOverDepthStep times alpha's; both provided at least
+//    kMinStepCheckPixels of those pixels have density on their rays (else the smallest).
 // 2. The radiance rays: on every kQuadratureCheckStride-th pixel of every kQuadratureCheckStride-th
 //    row, all n x n rays at that step against each m; the fewest m whose error is within what the
 //    step left of the allowance (the two add in quadrature) is taken (else n), or the given m.
@@ -97,5 +98,7 @@ int stepCheckStride(int width, int height);
 // small volume in the image (a 16x16 bake of the bundled sample's frame 1) leaves the 4 pixels of
 // a sparse grid empty, and measured no change at any step.
 inline constexpr int kMinStepCheckPixels = 32;
+// The radiance rays' step is at most this many times alpha's (chooseCameraQuadrature).
+inline constexpr int kRadianceStepOverDepthStep = 2;
 
 }  // namespace firelook::bake

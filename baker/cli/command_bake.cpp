@@ -51,13 +51,16 @@ void writeReportJson(const std::string& path, const std::string& sequence, const
              {"radiance_quadrature_allowance", f.radiance_quadrature_allowance},
              {"footprint_rays_per_axis", f.footprint_rays_per_axis},
              {"camera_step_voxels", f.camera_step_voxels},
+             {"depth_step_voxels", f.depth_step_voxels},
+             {"light_steps", bake::lightStepsJson(f.light_steps, true)},
              {"predicted_look_error", f.predictedLookError()},
              {"trace_seconds", f.trace_seconds},
              {"trace_stage_seconds",
               {{"cells_and_sources", f.setup_seconds},
                {"light_depths", f.light_seconds},
                {"photon_passes", f.photon_seconds},
-               {"camera_rays", f.camera_seconds}}},
+               {"camera_rays", f.camera_seconds},
+               {"step_checks", f.check_seconds}}},
              {"svd_seconds", f.compress_seconds},
              {"fire_lights", {{"bytes", f.fire_light_bytes}, {"seconds", f.fire_light_seconds}}},
              {"fire_probes", {{"bytes", f.fire_probe_bytes}, {"seconds", f.fire_probe_seconds}}},
@@ -80,6 +83,7 @@ void writeReportJson(const std::string& path, const std::string& sequence, const
                                   {"mean_change", c.mean_change},
                                   {"alpha_error", c.alpha_error}});
         frames[i]["radiance_candidates"] = std::move(candidates);
+
     }
     // The sequence's path as typed is provenance of this run, not of the package, whose bytes do
     // not depend on it.
@@ -145,16 +149,20 @@ std::string describeTraceChoice(const bake::BakeConfig& config) {
             "the frame's photon noise (chosen per frame)",
             m, m, candidates.front(), candidates.front(), 100.0 * t.radiance_quadrature_target,
             t.radiance_quadrature_noise_share);
-    char step[224];
+    char step[400];
     if (t.max_step_scale >= 2)
         std::snprintf(step, sizeof step,
-                      "march step %g voxel, or up to %g voxel where that moves the radiance by at most %g%%, "
-                      "its mean by %g%% and alpha by %g (chosen per frame)",
-                      t.step_voxels, t.step_voxels * bake::stepScaleCandidates(t).back(),
-                      100.0 * t.radiance_quadrature_target, 100.0 * t.step_mean_change_target, t.step_alpha_target);
+                      "march step %g voxel (toward the lights %g of their lattice's spacing), or up to %d times "
+                      "it, chosen per frame: the radiance rays' where that moves radiance by at most %g%% and its "
+                      "mean by %g%%, alpha's rays' where it moves alpha by at most %g, the lights' where it moves "
+                      "the lit source by at most %g%% and its mean by %g%%",
+                      t.step_voxels, t.step_voxels, bake::stepScaleCandidates(t).back(),
+                      100.0 * t.step_radiance_target, 100.0 * t.step_mean_change_target, t.step_alpha_target,
+                      100.0 * t.step_radiance_target, 100.0 * t.step_mean_change_target);
     else
-        std::snprintf(step, sizeof step, "march step %g voxel", t.step_voxels);
-    char line[800];
+        std::snprintf(step, sizeof step, "march step %g voxel (toward the lights %g of their lattice's spacing)",
+                      t.step_voxels, t.step_voxels);
+    char line[1024];
     std::snprintf(line, sizeof line,
                   "trace (%s quality): %dx%d footprint rays a pixel for alpha, %s for radiance; %s; %s; "
                   "scattering orders until %g%% is left",

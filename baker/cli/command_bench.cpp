@@ -260,6 +260,8 @@ bake::TraceSettings traceSettingsOf(const ordered_json& metadata) {
     t.radiance_quadrature_noise_share = s.value("radiance_quadrature_noise_share", 0.0);
     // And from before the trace chose its step (2026-12-07, fourth session): step_voxels always.
     t.max_step_scale = s.value("max_step_scale", 1);
+    // And from before step_radiance_target (2026-12-07, fifth session): radiance_quadrature_target.
+    t.step_radiance_target = s.value("step_radiance_target", t.radiance_quadrature_target);
     t.step_alpha_target = s.value("step_alpha_target", t.step_alpha_target);
     t.step_mean_change_target = s.value("step_mean_change_target", t.step_mean_change_target);
     return t;

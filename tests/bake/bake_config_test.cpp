@@ -49,7 +49,7 @@ TEST(BakeConfig, AppliesEveryKey) {
                   "order_tolerance": 0.01, "step_voxels": 0.25, "photon_pilot_share": 0.5,
                   "min_order_photon_share": 0.5, "radiance_quadrature_target": 0.002,
                   "radiance_quadrature_noise_share": 0.5, "cell_pixel_footprints": 2.5, "min_cells_across": 20,
-                  "max_step_scale": 2, "step_alpha_target": 0.002,
+                  "max_step_scale": 2, "step_radiance_target": 0.0005, "step_alpha_target": 0.002,
                   "step_mean_change_target": 0.001},
         "compression": {"target_relative_error": 0.01, "max_rank": 7}
     })");
@@ -84,6 +84,7 @@ TEST(BakeConfig, AppliesEveryKey) {
     EXPECT_EQ(c.trace.cell_pixel_footprints, 2.5);
     EXPECT_EQ(c.trace.min_cells_across, 20);
     EXPECT_EQ(c.trace.max_step_scale, 2);
+    EXPECT_EQ(c.trace.step_radiance_target, 0.0005);
     EXPECT_EQ(c.trace.step_alpha_target, 0.002);
     EXPECT_EQ(c.trace.step_mean_change_target, 0.001);
     EXPECT_EQ(c.compression.target_relative_error, 0.01);
@@ -173,6 +174,7 @@ TEST(BakeConfig, ErrorsNameTheFileAndTheProblem) {
     expectError(R"({"trace": {"max_step_scale": 17}})", "max_step_scale");
     expectError(R"({"trace": {"step_alpha_target": -0.1}})", "step_alpha_target");
     expectError(R"({"trace": {"step_mean_change_target": -0.1}})", "step_mean_change_target");
+    expectError(R"({"trace": {"step_radiance_target": -0.1}})", "step_radiance_target");
     expectError(R"({"quality": "best"})", "preview, default or final");
     expectError(R"({"up": "x"})", "up");
     expectError(R"({"camera": [0, 0, 10, 0, 0, 0]})", "camera");
@@ -207,8 +209,8 @@ TEST(BakeConfig, QualityPresetsAndTheirOverrides) {
     EXPECT_EQ(radianceSamplesPerAxis(final_, 4), 4);
     EXPECT_EQ(radianceCandidates(final_, 4), std::vector<int>{}) << "final: every footprint ray";
     EXPECT_EQ(stepScaleCandidates(final_), std::vector<int>{}) << "final: at its finer step always";
-    EXPECT_EQ(stepScaleCandidates(preview), (std::vector<int>{2, 4}));
-    EXPECT_EQ(stepScaleCandidates(defaults), (std::vector<int>{2, 4}));
+    EXPECT_EQ(stepScaleCandidates(preview), (std::vector<int>{2, 4, 8, 16}));
+    EXPECT_EQ(stepScaleCandidates(defaults), (std::vector<int>{2, 4, 8, 16}));
     EXPECT_EQ(radianceSamplesPerAxis(preview, 4), 2) << "preview: 2x2 of them";
 
     const BakeConfig from_file = apply(dir, R"({"quality": "preview", "trace": {"step_voxels": 0.2}})");

@@ -373,18 +373,22 @@ render::Medium blobMedium(bool rough) {
     return render::Medium(glm::ivec3(0), glm::ivec3(N), density, temperature, index_to_world, 0.2f);
 }
 
-// By default the trace may march its camera rays at up to 4 times step_voxels (max_step_scale): it
+// By default the trace may march its camera rays at up to 16 times step_voxels (max_step_scale): it
 // measures, before the camera pass, what each coarser step changes in the radiance and alpha of all
-// the footprint rays, and takes the coarsest within the allowances. A field that is smooth at the
-// voxel scale takes 4 times; one that jumps at every voxel only twice. What the trace then marches
-// is the bake with that step, bit for bit, and with no coarser step allowed the bake of
-// max_step_scale 1.
+// the footprint rays, and takes for the radiance rays the coarsest whose radiance and mean change
+// are within their allowances, for alpha's depth-only rays the coarsest whose alpha change is. A
+// field that is smooth at the voxel scale takes 4 times for both (of the 4 allowed here); one that
+// jumps at every voxel moves alpha too much at 4 times. The radiance rays' step is at most twice
+// alpha's. What the trace then marches is the bake with those steps, bit for bit: the radiance rays
+// do not depend on alpha's step, nor the depths on the radiance's, and with no coarser step allowed
+// it is the bake of max_step_scale 1.
 TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
     TraceSettings defaults;
-    EXPECT_EQ(defaults.max_step_scale, 4);
+    EXPECT_EQ(defaults.max_step_scale, 16);
+    EXPECT_EQ(defaults.step_radiance_target, 0.00075);
     EXPECT_EQ(defaults.step_alpha_target, 0.001);
     EXPECT_EQ(defaults.step_mean_change_target, 5e-4);
-    EXPECT_EQ(stepScaleCandidates(defaults), (std::vector<int>{2, 4}));
+    EXPECT_EQ(stepScaleCandidates(defaults), (std::vector<int>{2, 4, 8, 16}));
     defaults.max_step_scale = 1;
     EXPECT_EQ(stepScaleCandidates(defaults), std::vector<int>{});
 
@@ -404,10 +408,13 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
         return traceFrameBasis(medium, camera, model, t);
     };
     const double allowance = TraceSettings{}.radiance_quadrature_target;
-    // Every coarser step's candidate (n x n rays) and whether it was within both allowances.
-    const auto within = [&](const QuadratureCandidate& c) {
-        return c.radiance_error <= allowance && c.mean_change <= 5e-4 && c.alpha_error <= 0.001;
+    const double step_allowance = TraceSettings{}.step_radiance_target;
+    // Whether a coarser step's candidate (n x n rays) was within the radiance rays' allowances, and
+    // within alpha's.
+    const auto radianceWithin = [&](const QuadratureCandidate& c) {
+        return c.radiance_error <= step_allowance && c.mean_change <= 5e-4;
     };
+    const auto alphaWithin = [&](const QuadratureCandidate& c) { return c.alpha_error <= 0.001; };
 
     const render::Medium smooth = blobMedium(false), rough = blobMedium(true);
     const FrameBasis smooth_bake = trace(smooth, 4), rough_bake = trace(rough, 4);
@@ -423,24 +430,58 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
             std::printf("[measured] %s: %dx%d rays, step x%d: radiance %.3e, mean %.3e, alpha %.3e\n",
                         b == &smooth_bake ? "smooth" : "rough", c.rays_per_axis, c.rays_per_axis, c.step_scale,
                         c.radiance_error, c.mean_change, c.alpha_error);
+        // Each step is the coarsest its own criteria allow, the radiance rays' at most twice alpha's
+        // (kRadianceStepOverDepthStep).
+        const QuadratureCandidate &twice = b->quadrature_candidates[0], &four = b->quadrature_candidates[1];
+        const double step = TraceSettings{}.step_voxels;
+        const int depth_scale = alphaWithin(four) ? 4 : alphaWithin(twice) ? 2 : 1;
+        EXPECT_EQ(b->depth_step_voxels, step * depth_scale);
+        EXPECT_EQ(b->camera_step_voxels, step * (radianceWithin(four) && 4 <= 2 * depth_scale   ? 4
+                                                 : radianceWithin(twice) && 2 <= 2 * depth_scale ? 2
+                                                                                                 : 1));
     }
-    // The smooth blob: the coarsest step.
-    ASSERT_TRUE(within(smooth_bake.quadrature_candidates[1]));
+    // The smooth blob: the coarsest step for both.
+    ASSERT_TRUE(radianceWithin(smooth_bake.quadrature_candidates[1]) && alphaWithin(smooth_bake.quadrature_candidates[1]));
     EXPECT_EQ(smooth_bake.camera_step_voxels, 4 * TraceSettings{}.step_voxels);
+    EXPECT_EQ(smooth_bake.depth_step_voxels, 4 * TraceSettings{}.step_voxels);
     EXPECT_GT(smooth_bake.quadrature_candidates[1].radiance_error, 0.0) << "a different march, measured";
-    // The rough one: 4 times the step moves alpha too much, twice does not, and is taken; the bake
-    // is then the one that could choose no more than twice, bit for bit.
-    EXPECT_FALSE(within(rough_bake.quadrature_candidates[1]));
-    ASSERT_TRUE(within(rough_bake.quadrature_candidates[0]));
-    EXPECT_EQ(rough_bake.camera_step_voxels, 2 * TraceSettings{}.step_voxels);
+    // The rough one: 4 times the step moves alpha and the radiance too much, twice does not.
+    EXPECT_FALSE(alphaWithin(rough_bake.quadrature_candidates[1]));
+    ASSERT_TRUE(alphaWithin(rough_bake.quadrature_candidates[0]));
+    EXPECT_EQ(rough_bake.depth_step_voxels, 2 * TraceSettings{}.step_voxels);
+    // Its depths are those of the bake that could choose no more than twice, bit for bit.
     const FrameBasis rough_twice = trace(rough, 2);
-    EXPECT_TRUE(rough_twice.matrix == rough_bake.matrix);
+    EXPECT_EQ(rough_twice.depth_step_voxels, rough_bake.depth_step_voxels);
     EXPECT_TRUE(rough_twice.depth_b == rough_bake.depth_b && rough_twice.depth_a == rough_bake.depth_a);
-    // Allowed a tenth of that alpha change, it keeps step_voxels, and is then the bake that never
-    // measured a step, bit for bit.
-    const double tight = 0.1 * rough_bake.quadrature_candidates[0].alpha_error;
-    const FrameBasis rough_tight = trace(rough, 4, tight), rough_fixed = trace(rough, 1);
+    // The smooth blob allowed less alpha change than 4 times the step makes and more than twice
+    // makes: alpha's rays take twice, the radiance rays their 4 times, and the radiance is the same
+    // bit for bit.
+    const double between =
+        0.5 * (smooth_bake.quadrature_candidates[0].alpha_error + smooth_bake.quadrature_candidates[1].alpha_error);
+    const FrameBasis smooth_between = trace(smooth, 4, between);
+    EXPECT_EQ(smooth_between.depth_step_voxels, 2 * TraceSettings{}.step_voxels);
+    EXPECT_EQ(smooth_between.camera_step_voxels, smooth_bake.camera_step_voxels);
+    EXPECT_TRUE(smooth_between.matrix == smooth_bake.matrix);
+    EXPECT_FALSE(smooth_between.depth_b == smooth_bake.depth_b);
+    // Allowed a tenth of twice the step's alpha change, alpha's rays keep step_voxels, and the
+    // radiance rays take twice it, not the 4 times their own criteria allow.
+    const FrameBasis smooth_tight = trace(smooth, 4, 0.1 * smooth_bake.quadrature_candidates[0].alpha_error);
+    EXPECT_EQ(smooth_tight.depth_step_voxels, TraceSettings{}.step_voxels);
+    EXPECT_EQ(smooth_tight.camera_step_voxels, 2 * TraceSettings{}.step_voxels);
+    // Allowed a tenth of the alpha change and of the mean changes at twice the step (the camera's
+    // and the light's: the light depths' step is chosen alike, light_depth_field.h), the rough blob
+    // keeps step_voxels for all three, and is then the bake that never measured a step, bit for bit.
+    const QuadratureCandidate& rough_twice_c = rough_bake.quadrature_candidates[0];
+    ASSERT_EQ(rough_bake.light_steps.size(), 1u);
+    ASSERT_EQ(rough_bake.light_steps[0].candidates.size(), 2u);
+    const double tight_mean =
+        0.1 * std::min(rough_twice_c.mean_change, rough_bake.light_steps[0].candidates[0].mean_change);
+    const FrameBasis rough_tight = trace(rough, 4, 0.1 * rough_twice_c.alpha_error, tight_mean);
+    const FrameBasis rough_fixed = trace(rough, 1);
     EXPECT_EQ(rough_tight.camera_step_voxels, TraceSettings{}.step_voxels);
+    EXPECT_EQ(rough_tight.depth_step_voxels, TraceSettings{}.step_voxels);
+    ASSERT_EQ(rough_tight.light_steps.size(), 1u);
+    EXPECT_EQ(rough_tight.light_steps[0].step_scale, 1);
     EXPECT_TRUE(rough_fixed.matrix == rough_tight.matrix);
     EXPECT_TRUE(rough_fixed.depth_b == rough_tight.depth_b && rough_fixed.depth_a == rough_tight.depth_a);
     EXPECT_EQ(rough_fixed.radiance_samples, rough_tight.radiance_samples);
@@ -464,19 +505,21 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
     const double image_error = std::sqrt(diff2 / value2);
     std::printf("[measured] smooth blob, x4 step against step_voxels over the image: %.3e\n", image_error);
     EXPECT_LT(image_error, 2.0 * allowance);
-    // The mean change guards the step on its own: allowed half of what 4 times the step moved the
-    // smooth blob's sums, it takes twice the step (which moved them less).
+    // The mean change guards the radiance step on its own: allowed half of what 4 times the step
+    // moved the smooth blob's sums, it takes twice the step (which moved them less).
     const double half = 0.5 * smooth_bake.quadrature_candidates[1].mean_change;
     ASSERT_LT(smooth_bake.quadrature_candidates[0].mean_change, half);
     EXPECT_EQ(trace(smooth, 4, 0.001, half).camera_step_voxels, 2 * TraceSettings{}.step_voxels);
-    // The step's radiance change is held to radiance_quadrature_target alone, not to the share of
-    // the photon noise the radiance rays may take (a midpoint error can be a bias, photon noise not):
-    // with the target at half of what 4 times the step changed and the noise share 100 times that,
+    // The step's radiance change is held to step_radiance_target, not to the share of the photon
+    // noise the radiance rays may take (a midpoint error can be a bias, photon noise not): with
+    // both targets at half of what 4 times the step changed and the noise share 100 times that,
     // twice the step.
     {
         TraceSettings t = fastTrace(3);
         t.footprint_samples_per_axis = 4;
+        t.max_step_scale = 4;
         t.radiance_quadrature_target = 0.5 * smooth_bake.quadrature_candidates[1].radiance_error;
+        t.step_radiance_target = t.radiance_quadrature_target;
         ASSERT_LT(smooth_bake.quadrature_candidates[0].radiance_error, t.radiance_quadrature_target);
         const FrameBasis probe = traceFrameBasis(smooth, camera, model, t);
         t.radiance_quadrature_noise_share = 100.0 * t.radiance_quadrature_target / probe.predicted_photon_noise;
@@ -502,6 +545,7 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
     ASSERT_GT(pixels_with_density, 0u);
     ASSERT_LT(pixels_with_density, static_cast<std::size_t>(kMinStepCheckPixels));
     EXPECT_EQ(small.camera_step_voxels, TraceSettings{}.step_voxels);
+    EXPECT_EQ(small.depth_step_voxels, TraceSettings{}.step_voxels);
 }
 
 // A stop asked for while the scattering cells or the light depths are built ends the trace there,

@@ -467,8 +467,10 @@ TEST(Cli, BakeQualityPresetIsPrintedRecordedAndPredicted) {
                                            "--quality preview --report report.json");
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
     EXPECT_NE(r.err.find("trace (preview quality): 8x8 footprint rays a pixel for alpha, 2x2 of them for radiance; "
-                         "march step 0.25 voxel, or up to 1 voxel where that moves the radiance by at most 0.15%, "
-                         "its mean by 0.05% and alpha by 0.001 (chosen per frame)"),
+                         "march step 0.25 voxel (toward the lights 0.25 of their lattice's spacing), or up to 16 "
+                         "times it, chosen per frame: the radiance rays' where that moves radiance by at most 0.075% "
+                         "and its mean by 0.05%, alpha's rays' where it moves alpha by at most 0.001, the lights' "
+                         "where it moves the lit source by at most 0.075% and its mean by 0.05%"),
               std::string::npos)
         << r.err;
     EXPECT_NE(r.out.find("look err %"), std::string::npos) << r.out;
@@ -477,24 +479,31 @@ TEST(Cli, BakeQualityPresetIsPrintedRecordedAndPredicted) {
     EXPECT_GT(frame.at("radiance_quadrature_error").get<double>(), 0.0) << "2x2 of 8x8 rays: measured";
     EXPECT_EQ(frame.at("radiance_rays_per_axis").get<int>(), 2);
     EXPECT_EQ(frame.at("footprint_rays_per_axis").get<int>(), 8);
-    // Every n x n at twice and 4 times the step, then preview's given m at the step taken, measured.
-    // At this size twice the step moves alpha by more than 0.001 (0.0013 when this was written).
+    // Every n x n at 2, 4, 8 and 16 times the step, then preview's given m at the step taken,
+    // measured. At this size the frame covers fewer checked pixels than kMinStepCheckPixels, so
+    // both the radiance rays and alpha's keep the step (and the light, whose check points are too
+    // few as well).
     const json candidates = frame.at("radiance_candidates");
-    ASSERT_EQ(candidates.size(), 3u) << candidates;
+    ASSERT_EQ(candidates.size(), 5u) << candidates;
     EXPECT_EQ(candidates[0].at("rays_per_axis").get<int>(), 8);
-    EXPECT_EQ(candidates[0].at("step_scale").get<int>(), 2);
-    EXPECT_EQ(candidates[1].at("step_scale").get<int>(), 4);
-    EXPECT_EQ(candidates[2].at("rays_per_axis").get<int>(), 2);
-    EXPECT_EQ(candidates[2].at("step_scale").get<int>(), 1);
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(candidates[k].at("step_scale").get<int>(), 2 << k);
+    EXPECT_EQ(candidates[4].at("rays_per_axis").get<int>(), 2);
+    EXPECT_EQ(candidates[4].at("step_scale").get<int>(), 1);
     EXPECT_EQ(frame.at("camera_step_voxels").get<double>(), 0.25);
-    EXPECT_EQ(candidates[2].at("quadrature_error").get<double>(),
+    EXPECT_EQ(frame.at("depth_step_voxels").get<double>(), 0.25);
+    EXPECT_EQ(candidates[4].at("quadrature_error").get<double>(),
               frame.at("radiance_quadrature_error").get<double>());
+    const json light_steps = frame.at("light_steps");
+    ASSERT_EQ(light_steps.size(), 1u) << "the key light";
+    EXPECT_EQ(light_steps[0].at("source_error").get<double>(), 0.0);
+    EXPECT_EQ(light_steps[0].at("candidates").size(), 4u) << light_steps;
     EXPECT_NE(r.out.find(" 2/8 "), std::string::npos) << "the table's rays column\n" << r.out;
     EXPECT_NEAR(predicted,
                 std::sqrt(std::pow(frame.at("svd_truncation_relative_error").get<double>(), 2) +
                           std::pow(frame.at("storage_relative_error").get<double>(), 2) +
                           std::pow(frame.at("predicted_photon_noise").get<double>(), 2) +
-                          std::pow(frame.at("radiance_quadrature_error").get<double>(), 2)),
+                          std::pow(frame.at("radiance_quadrature_error").get<double>(), 2) +
+                          std::pow(light_steps[0].at("source_error").get<double>(), 2)),
                 1e-12);
 
     r = runFirelook(dir, "info pkg.firelook --json");
@@ -503,9 +512,13 @@ TEST(Cli, BakeQualityPresetIsPrintedRecordedAndPredicted) {
     EXPECT_EQ(settings.at("quality"), "preview");
     EXPECT_EQ(settings.at("trace").at("step_voxels"), 0.25) << "the preset's";
     EXPECT_EQ(settings.at("trace").at("photons_primary"), 2000) << "the file's key over the preset";
-    EXPECT_EQ(settings.at("trace").at("max_step_scale"), 4) << "the preset's";
+    EXPECT_EQ(settings.at("trace").at("max_step_scale"), 16) << "the preset's";
     const json errors = json::parse(r.out).at("metadata").at("errors")[0];
-    EXPECT_EQ(errors.at("camera_step_voxels"), 0.25) << "the step taken, recorded";
+    EXPECT_EQ(errors.at("camera_step_voxels"), 0.25) << "the steps taken, recorded";
+    EXPECT_EQ(errors.at("depth_step_voxels"), 0.25);
+    ASSERT_EQ(errors.at("light_steps").size(), 1u);
+    EXPECT_EQ(errors.at("light_steps")[0].at("step_voxels"), light_steps[0].at("step_voxels"));
+    EXPECT_FALSE(errors.at("light_steps")[0].contains("candidates")) << "--report only";
 
     r = runFirelook(dir, "bench '" + kSample +
                              "' --package pkg.firelook --frames 1 --looks 1 --spp 8 --alpha-rays 2 --json bench.json");
