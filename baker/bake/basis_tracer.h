@@ -203,25 +203,25 @@ struct TraceSettings {
     // own criteria:
     // - the radiance rays': the coarsest at which all footprint rays' radiance is within
     //   step_radiance_target of theirs at step_voxels and its sums move by at most
-    //   step_mean_change_target, up to twice alpha's (kRadianceStepOverDepthStep); the radiance
-    //   rays' m then gets what it leaves of the allowance;
+    //   step_mean_change_target, never coarser than alpha's (kRadianceStepOverDepthStep); the
+    //   radiance rays' m then gets what it leaves of the allowance;
     // - alpha's depth-only rays': the coarsest whose pixels' alpha moves by at most
     //   step_alpha_target for any look on the axes;
     // - each light's depths' (toward the lights the step is step_voxels times the lattice's
     //   spacing): the coarsest whose lit source moves within step_radiance_target (relative norm)
     //   and step_mean_change_target (its sum).
     // The midpoint rule's error is the field's, not the step's alone: frame 12 of the bundled
-    // sample upsampled 4x (smooth at the voxel scale) takes 4 voxels for radiance, 1 for alpha and
-    // 1.5 toward its key light, and its camera rays and checks took 6.6 s against 11.1 s at
-    // 256x256 with one step of at most 1 voxel; the sample's own frames keep 0.25-0.5 for alpha and
-    // take 0.5-1 for radiance. 1: step_voxels always (the bakes before 2026-12-07's fourth session).
+    // sample upsampled 4x (smooth at the voxel scale) takes 1 voxel for its camera rays and 1.5
+    // toward its key light (light depths 2.1-2.4 s against 3.0-3.4 s at 0.75); the sample's own
+    // frames 0.25-1 voxel. 1: step_voxels always (the bakes before 2026-12-07's fourth session).
     int max_step_scale = 16;
     // What a coarser step may move of the radiance (and of each light's lit source): half of
     // radiance_quadrature_target, so that the radiance rays' m keeps most of the allowance. Not
     // the photon noise's share, because a midpoint error can be a bias where photon noise is not.
-    // At the whole target, the accuracy suite's smoke frame took its radiance rays to 1 voxel at
-    // a measured 0.137%, their 2x2 rays then 0.264% of the noise share's allowance, and dense
-    // smoke at albedo 0.95 had its median look error rise from 0.38% to 0.47% (the bar is 0.5%).
+    // With the radiance rays' step allowed twice alpha's and the whole target, the accuracy
+    // suite's smoke frame took its radiance rays to 1 voxel at a measured 0.137%, their 2x2 rays
+    // then 0.264% of the noise share's allowance, and dense smoke at albedo 0.95 had its median look
+    // error rise from 0.38% to 0.47% (the bar is 0.5%).
     double step_radiance_target = 0.00075;
     // A fifth of the bake's alpha bar of 0.005 (its measured worst is at most 0.0029 on
     // scripts/bench/accuracy.sh, with these steps as without): the check sees 1/64 of the pixels,

@@ -214,11 +214,10 @@ CameraQuadrature chooseCameraQuadrature(const CameraQuadratureInputs& in, const 
             // alpha moves 0.007).
             if (alpha_error <= options.alpha_allowance) out.depth_step_scale = options.step_scales[t];
         }
-        // ...but at most kRadianceStepOverDepthStep times alpha's: alpha sees every checked pixel's
-        // depths change, the radiance error is one norm over the image, which a frame's thin parts
-        // barely move. The bundled sample's frame 7 at 128x128 measured 0.085% at 4 times the
-        // step where alpha moved 0.019, and its looks' error against the references rose from
-        // 0.10-0.24% to 0.26-0.49% with its radiance rays there (alpha's at the smallest step).
+        // ...but at most kRadianceStepOverDepthStep times alpha's (camera_quadrature.h). Allowed
+        // twice, the bundled sample's frame 7 at 128x128 measured 0.085% at 4 times the step where
+        // alpha moved 0.019, and its looks' error against the references rose from 0.10-0.24% to
+        // 0.26-0.49% with its radiance rays there (alpha's at the smallest step).
         for (std::size_t t = 0; t < S; ++t) {
             const QuadratureCandidate& c = out.candidates[t];
             if (judged && c.step_scale <= kRadianceStepOverDepthStep * out.depth_step_scale &&

@@ -378,8 +378,8 @@ render::Medium blobMedium(bool rough) {
 // the footprint rays, and takes for the radiance rays the coarsest whose radiance and mean change
 // are within their allowances, for alpha's depth-only rays the coarsest whose alpha change is. A
 // field that is smooth at the voxel scale takes 4 times for both (of the 4 allowed here); one that
-// jumps at every voxel moves alpha too much at 4 times. The radiance rays' step is at most twice
-// alpha's. What the trace then marches is the bake with those steps, bit for bit: the radiance rays
+// jumps at every voxel moves alpha too much at 4 times. The radiance rays' step is never coarser
+// than alpha's. What the trace then marches is the bake with those steps, bit for bit: the radiance rays
 // do not depend on alpha's step, nor the depths on the radiance's, and with no coarser step allowed
 // it is the bake of max_step_scale 1.
 TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
@@ -398,8 +398,10 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
     const render::Camera camera =
         render::Camera::lookAt({2.0, 1.6, 1.2}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, degrees(30.0), 32, 32);
     const auto trace = [&](const render::Medium& medium, int max_step_scale, double alpha_target = 0.001,
-                           double mean_change_target = 5e-4) {
+                           double mean_change_target = 5e-4,
+                           double radiance_target = TraceSettings{}.step_radiance_target) {
         TraceSettings t = fastTrace(3);
+        t.step_radiance_target = radiance_target;
         t.radiance_quadrature_noise_share = 0.0;  // the fixed 0.15%, not what 2000 photons' noise allows
         t.footprint_samples_per_axis = 4;
         t.max_step_scale = max_step_scale;
@@ -430,15 +432,15 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
             std::printf("[measured] %s: %dx%d rays, step x%d: radiance %.3e, mean %.3e, alpha %.3e\n",
                         b == &smooth_bake ? "smooth" : "rough", c.rays_per_axis, c.rays_per_axis, c.step_scale,
                         c.radiance_error, c.mean_change, c.alpha_error);
-        // Each step is the coarsest its own criteria allow, the radiance rays' at most twice alpha's
-        // (kRadianceStepOverDepthStep).
+        // Each step is the coarsest its own criteria allow, the radiance rays' never coarser than
+        // alpha's (kRadianceStepOverDepthStep).
         const QuadratureCandidate &twice = b->quadrature_candidates[0], &four = b->quadrature_candidates[1];
         const double step = TraceSettings{}.step_voxels;
         const int depth_scale = alphaWithin(four) ? 4 : alphaWithin(twice) ? 2 : 1;
         EXPECT_EQ(b->depth_step_voxels, step * depth_scale);
-        EXPECT_EQ(b->camera_step_voxels, step * (radianceWithin(four) && 4 <= 2 * depth_scale   ? 4
-                                                 : radianceWithin(twice) && 2 <= 2 * depth_scale ? 2
-                                                                                                 : 1));
+        EXPECT_EQ(b->camera_step_voxels, step * (radianceWithin(four) && 4 <= depth_scale   ? 4
+                                                 : radianceWithin(twice) && 2 <= depth_scale ? 2
+                                                                                             : 1));
     }
     // The smooth blob: the coarsest step for both.
     ASSERT_TRUE(radianceWithin(smooth_bake.quadrature_candidates[1]) && alphaWithin(smooth_bake.quadrature_candidates[1]));
@@ -453,21 +455,22 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
     const FrameBasis rough_twice = trace(rough, 2);
     EXPECT_EQ(rough_twice.depth_step_voxels, rough_bake.depth_step_voxels);
     EXPECT_TRUE(rough_twice.depth_b == rough_bake.depth_b && rough_twice.depth_a == rough_bake.depth_a);
-    // The smooth blob allowed less alpha change than 4 times the step makes and more than twice
-    // makes: alpha's rays take twice, the radiance rays their 4 times, and the radiance is the same
-    // bit for bit.
-    const double between =
-        0.5 * (smooth_bake.quadrature_candidates[0].alpha_error + smooth_bake.quadrature_candidates[1].alpha_error);
-    const FrameBasis smooth_between = trace(smooth, 4, between);
-    EXPECT_EQ(smooth_between.depth_step_voxels, 2 * TraceSettings{}.step_voxels);
-    EXPECT_EQ(smooth_between.camera_step_voxels, smooth_bake.camera_step_voxels);
-    EXPECT_TRUE(smooth_between.matrix == smooth_bake.matrix);
-    EXPECT_FALSE(smooth_between.depth_b == smooth_bake.depth_b);
-    // Allowed a tenth of twice the step's alpha change, alpha's rays keep step_voxels, and the
-    // radiance rays take twice it, not the 4 times their own criteria allow.
+    // The smooth blob with its radiance held below what twice the step moves: the radiance rays keep
+    // step_voxels while alpha's still take 4 times. Its depths are the 4 times bake's, its radiance
+    // the bake's that never measured a step, bit for bit (its light steps held to the same target
+    // are the finest as well).
+    const FrameBasis smooth_split =
+        trace(smooth, 4, 0.001, 5e-4, 0.5 * smooth_bake.quadrature_candidates[0].radiance_error);
+    const FrameBasis smooth_fixed = trace(smooth, 1);
+    EXPECT_EQ(smooth_split.depth_step_voxels, 4 * TraceSettings{}.step_voxels);
+    EXPECT_EQ(smooth_split.camera_step_voxels, TraceSettings{}.step_voxels);
+    EXPECT_TRUE(smooth_split.depth_b == smooth_bake.depth_b && smooth_split.depth_a == smooth_bake.depth_a);
+    EXPECT_TRUE(smooth_split.matrix == smooth_fixed.matrix);
+    // Allowed a tenth of twice the step's alpha change, alpha's rays keep step_voxels, and so do
+    // the radiance rays, whose own criteria allow 4 times: never coarser than alpha's.
     const FrameBasis smooth_tight = trace(smooth, 4, 0.1 * smooth_bake.quadrature_candidates[0].alpha_error);
     EXPECT_EQ(smooth_tight.depth_step_voxels, TraceSettings{}.step_voxels);
-    EXPECT_EQ(smooth_tight.camera_step_voxels, 2 * TraceSettings{}.step_voxels);
+    EXPECT_EQ(smooth_tight.camera_step_voxels, TraceSettings{}.step_voxels);
     // Allowed a tenth of the alpha change and of the mean changes at twice the step (the camera's
     // and the light's: the light depths' step is chosen alike, light_depth_field.h), the rough blob
     // keeps step_voxels for all three, and is then the bake that never measured a step, bit for bit.
@@ -489,7 +492,6 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
 
     // What the smooth blob's step changes, over the whole image: within a few times what the check
     // measured on its 1/64 of the pixels (summed bins per grid point, as the check counts).
-    const FrameBasis smooth_fixed = trace(smooth, 1);
     double diff2 = 0.0, value2 = 0.0;
     const int G = model.axes.pointCount(), C = model.columnsPerPoint();
     for (std::size_t pixel = 0; pixel < 32 * 32; ++pixel)
