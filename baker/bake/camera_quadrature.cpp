@@ -208,16 +208,14 @@ CameraQuadrature chooseCameraQuadrature(const CameraQuadratureInputs& in, const 
             const double mean_change = fine_sum > 0.0 ? moved / fine_sum : 0.0;
             out.candidates.push_back({n, options.step_scales[t], error, mean_change, alpha_error});
             if (!judged) continue;
-            // The radiance rays' step by what it moves of radiance, the depth-only rays' by what it
-            // moves of alpha: where the m x m radiance rays are not the footprint rays they march on
-            // their own (the upsampled frame's radiance barely moves at 4 times the step where its
-            // alpha moves 0.007).
+            // The depth-only rays' step by what it moves of alpha.
             if (alpha_error <= options.alpha_allowance) out.depth_step_scale = options.step_scales[t];
         }
-        // ...but at most kRadianceStepOverDepthStep times alpha's (camera_quadrature.h). Allowed
-        // twice, the bundled sample's frame 7 at 128x128 measured 0.085% at 4 times the step where
-        // alpha moved 0.019, and its looks' error against the references rose from 0.10-0.24% to
-        // 0.26-0.49% with its radiance rays there (alpha's at the smallest step).
+        // The radiance rays' by what it moves of radiance, up to kRadianceStepOverDepthStep times
+        // alpha's (camera_quadrature.h): finer where radiance moves more than alpha, never coarser.
+        // Free of alpha's, the bundled sample's frame 7 at 128x128 measured 0.085% at 4 times the
+        // step where alpha moved 0.019, and its looks' error against the references rose from
+        // 0.10-0.24% to 0.26-0.49% with its radiance rays there (alpha's at the smallest step).
         for (std::size_t t = 0; t < S; ++t) {
             const QuadratureCandidate& c = out.candidates[t];
             if (judged && c.step_scale <= kRadianceStepOverDepthStep * out.depth_step_scale &&
