@@ -215,7 +215,7 @@ FrameBakeReport reportFromMetadata(int frame, const FrameMetadata& kept) {
     fr.camera_step_voxels = e.value("camera_step_voxels", 0.0);  // before 2026-12-07 (fourth session): not recorded
     // Before 2026-12-07 (fifth session) the depth-only rays marched at the radiance rays' step.
     fr.depth_step_voxels = e.value("depth_step_voxels", fr.camera_step_voxels);
-    // ...and the light depths' step was not measured (0: not recorded).
+    // ...and no light's step was chosen (none recorded).
     if (e.contains("light_steps"))
         for (const auto& light : e.at("light_steps"))
             fr.light_steps.push_back({0, light.at("step_voxels"), light.at("source_error"), {}});

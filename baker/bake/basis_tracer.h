@@ -299,8 +299,8 @@ struct QuadratureCandidate {
     double alpha_error = 0.0;
 };
 
-// What a march toward the lights at step_scale times the finest step changes, on every
-// kLightStepCheckStride-th lattice point of each axis near density (light_depth_field.h, chooseLightStep).
+// What a march toward a light at step_scale times the finest step changes, on one lattice point
+// near density of every kLightStepCheckStride^3 block (light_depth_field.h, chooseLightSteps).
 struct LightStepCandidate {
     int step_scale = 1;
     // The single-scatter source sigma_s tau_light at the checked points against the finest step's,

@@ -195,19 +195,31 @@ std::vector<LightStep> chooseLightSteps(const render::Medium& medium, const Basi
                                         const std::vector<int>& step_scales, double error_allowance,
                                         double mean_change_allowance, const std::atomic<bool>& stop) {
     const int L = tb.lights, G = tb.points;
+    const double finest_voxels = step_voxels * spacing;
     std::vector<LightStep> out(L);
-    for (LightStep& light : out) light.step_voxels = step_voxels * spacing;
+    for (LightStep& light : out) light.step_voxels = finest_voxels;
     const std::size_t S = step_scales.size();
     if (S == 0 || L == 0) return out;
     const IndexBox box = influenceBox(medium);
     const glm::ivec3 count = lightLatticeCount(medium, spacing);
-    const double step = step_voxels * spacing * medium.minVoxelEdge();
+    const double step = finest_voxels * medium.minVoxelEdge();
     // Per layer of checked blocks, per light: each step's sum of squared differences and the finest
     // step's squared sources (diff2[l * S + s], value2[l]), and per grid point the finest step's
     // source sum and each coarser step's change of it (fine_sum[l * G + g], change[(l * S + s) * G + g]).
     struct Layer {
         std::vector<double> diff2, value2, fine_sum, change;
         std::vector<int> points;  // per light, the checked points
+        Layer() = default;  // a layer the stop left unmeasured: adds nothing
+        Layer(int L, std::size_t S, int G)
+            : diff2(L * S), value2(L), fine_sum(static_cast<std::size_t>(L) * G), change(L * S * G), points(L) {}
+        void add(const Layer& layer) {
+            if (layer.value2.empty()) return;
+            for (std::size_t k = 0; k < diff2.size(); ++k) diff2[k] += layer.diff2[k];
+            for (std::size_t k = 0; k < value2.size(); ++k) value2[k] += layer.value2[k];
+            for (std::size_t k = 0; k < fine_sum.size(); ++k) fine_sum[k] += layer.fine_sum[k];
+            for (std::size_t k = 0; k < change.size(); ++k) change[k] += layer.change[k];
+            for (std::size_t k = 0; k < points.size(); ++k) points[k] += layer.points[k];
+        }
     };
     // One point of each stride^3 block of the lattice, at a fixed pseudo-random place in it: marches
     // of whole steps from lattice points meet the field's kinks at a phase that repeats with the
@@ -220,11 +232,7 @@ std::vector<LightStep> chooseLightSteps(const render::Medium& medium, const Basi
     tbb::parallel_for(0, blocks.z, [&](int bz) {
         if (stop.load(std::memory_order_relaxed)) return;
         Layer& layer = layers[bz];
-        layer.diff2.assign(L * S, 0.0);
-        layer.value2.assign(L, 0.0);
-        layer.fine_sum.assign(static_cast<std::size_t>(L) * G, 0.0);
-        layer.change.assign(L * S * G, 0.0);
-        layer.points.assign(L, 0);
+        layer = Layer(L, S, G);
         float smoke[kMaxAxisSamples], flame[kMaxAxisSamples];
         std::vector<float> fine(G), coarse(G);
         for (int by = 0; by < blocks.y; ++by)
@@ -264,20 +272,8 @@ std::vector<LightStep> chooseLightSteps(const render::Medium& medium, const Basi
             }
     });
     // The layers' sums in layer order.
-    Layer total;
-    total.diff2.assign(L * S, 0.0);
-    total.value2.assign(L, 0.0);
-    total.fine_sum.assign(static_cast<std::size_t>(L) * G, 0.0);
-    total.change.assign(L * S * G, 0.0);
-    total.points.assign(L, 0);
-    for (const Layer& layer : layers) {
-        if (layer.value2.empty()) continue;
-        for (int l = 0; l < L; ++l) total.points[l] += layer.points[l];
-        for (std::size_t k = 0; k < total.diff2.size(); ++k) total.diff2[k] += layer.diff2[k];
-        for (std::size_t k = 0; k < total.value2.size(); ++k) total.value2[k] += layer.value2[k];
-        for (std::size_t k = 0; k < total.fine_sum.size(); ++k) total.fine_sum[k] += layer.fine_sum[k];
-        for (std::size_t k = 0; k < total.change.size(); ++k) total.change[k] += layer.change[k];
-    }
+    Layer total(L, S, G);
+    for (const Layer& layer : layers) total.add(layer);
     for (int l = 0; l < L; ++l) {
         if (!(total.value2[l] > 0.0)) continue;  // nothing lit to measure: the finest step
         // Too few points to judge by: measured, and the finest step.
@@ -292,7 +288,7 @@ std::vector<LightStep> chooseLightSteps(const render::Medium& medium, const Basi
             out[l].candidates.push_back(c);
             if (judged && c.source_error <= error_allowance && c.mean_change <= mean_change_allowance) {
                 out[l].step_scale = c.step_scale;
-                out[l].step_voxels = step_voxels * spacing * c.step_scale;
+                out[l].step_voxels = finest_voxels * c.step_scale;
                 out[l].source_error = c.source_error;
             }
         }

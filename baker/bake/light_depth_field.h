@@ -35,23 +35,28 @@ glm::ivec3 lightLatticeCount(const render::Medium& medium, int spacing);
 // LightStep and LightStepCandidate (one measured step) are in basis_tracer.h, whose FrameBasis
 // reports them.
 
-// Each light's depths' march step, chosen per frame as the camera rays' is (camera_quadrature.h):
-// the coarsest of step_scales (ascending, each above 1) whose source_error and mean_change are
-// within the allowances, or 1. Per light, so that adding a light changes no other light's depths. The midpoint rule's error is the field's: frame 12 of the bundled sample
-// upsampled 4x is smooth at the voxel scale, the sample's own frames are not. Checked points are
-// measured in parallel and summed in layer order: the same choice on any number of threads.
+// One lattice point of every kLightStepCheckStride^3 block is checked.
 inline constexpr int kLightStepCheckStride = 4;
 // A light's coarser step is judged on at least this many checked points with density that its
 // march reaches (as the camera's: kMinStepCheckPixels); fewer keep the finest step.
 inline constexpr int kMinLightCheckPoints = 32;
-std::vector<LightStep> chooseLightSteps(const render::Medium& medium, const BasisModel& model, const TraceTables& tables,
-                          const ScatterCells& cells, int spacing, double step_voxels,
-                          const std::vector<int>& step_scales, double error_allowance,
-                          double mean_change_allowance, const std::atomic<bool>& stop);
+
+// Each light's depths' march step, chosen per frame as the camera rays' is (camera_quadrature.h):
+// from the checked points, marches at step_voxels times the spacing and at step_scales (ascending,
+// each above 1) times that; the coarsest whose source_error and mean_change are within the
+// allowances is taken, or the finest. Per light, so that adding a light changes no other light's
+// depths. The midpoint rule's error is the field's: frame 12 of the bundled sample upsampled 4x is
+// smooth at the voxel scale, the sample's own frames are not. Checked points are measured in
+// parallel and summed in layer order: the same choice on any number of threads.
+std::vector<LightStep> chooseLightSteps(const render::Medium& medium, const BasisModel& model,
+                                        const TraceTables& tables, const ScatterCells& cells, int spacing,
+                                        double step_voxels, const std::vector<int>& step_scales,
+                                        double error_allowance, double mean_change_allowance,
+                                        const std::atomic<bool>& stop);
 
 // Marches toward each light from every lattice point near density, at step_voxels[light] (voxels:
-// LightStep::step_voxels); a march stops once even the
-// thinnest grid point's transmittance is negligible (so thick media cost little).
+// LightStep::step_voxels); a march stops once even the thinnest grid point's transmittance is
+// negligible (so thick media cost little).
 // progress(fraction done), called from the worker threads, returns false to stop: the field is then
 // incomplete and the caller must not use it (it throws its cancel).
 LightDepthField buildLightDepths(const render::Medium& medium, const BasisModel& model, const TraceTables& tables,
