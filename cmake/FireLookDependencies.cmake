@@ -26,8 +26,6 @@ find_package(TinyGLTF REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(glm REQUIRED)
 find_package(Eigen3 REQUIRED NO_MODULE)
-# Spectra (libspectra-dev): a few leading eigenpairs of a large symmetric matrix (Lanczos), header-only.
-find_package(spectra REQUIRED CONFIG)
 find_package(TBB REQUIRED)
 
 if(FIRELOOK_BUILD_TESTS)

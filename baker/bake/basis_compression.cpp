@@ -1,7 +1,5 @@
 #include "bake/basis_compression.h"
 
-#include <Spectra/MatOp/DenseSymMatProd.h>
-#include <Spectra/SymEigsSolver.h>
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Dense>
@@ -15,6 +13,7 @@
 
 #include "basis/source_balance.h"
 #include "common/error.h"
+#include "render/random.h"
 
 namespace firelook::bake {
 namespace {
@@ -26,10 +25,10 @@ Eigen::Map<const RowMatrix> basisMatrix(const FrameBasis& basis) {
 }
 
 // Below this many columns, or where the pairs asked for are a third of the columns, the dense
-// solver is as cheap as the Lanczos one (1632 columns, the bundled sample's: 2.6 s dense).
+// solver on the Gram matrix is as cheap as the subspace iteration (leadingSpectrum).
 constexpr int kDenseColumns = 400;
-// The Lanczos solver first asks for this many pairs, then doubles them while the dropped energy is
-// above what SpectrumNeeds asks for: a real frame's rank is 15-45 (the sample at 256x256).
+// The subspace iteration first asks for this many pairs, then doubles them while the dropped energy
+// is above what SpectrumNeeds asks for: a real frame's rank is 15-45 (the sample at 256x256).
 constexpr int kFirstLeading = 32;
 
 void denseSpectrum(const Eigen::MatrixXd& gram, FrameSpectrum& spectrum) {
@@ -40,75 +39,147 @@ void denseSpectrum(const Eigen::MatrixXd& gram, FrameSpectrum& spectrum) {
     spectrum.total = lambda.sum();
 }
 
-// The `count` largest eigenpairs (Spectra's implicitly restarted Lanczos on the lower triangle);
-// false where it did not converge.
-bool leadingSpectrum(const Eigen::MatrixXd& gram, int count, FrameSpectrum& spectrum) {
-    const auto n = static_cast<int>(gram.rows());
-    Spectra::DenseSymMatProd<double> product(gram);
-    Spectra::SymEigsSolver<Spectra::DenseSymMatProd<double>> solver(product, count, std::min(n, 2 * count + 1));
-    solver.init();  // a fixed start vector: the same pairs for the same matrix
-    solver.compute(Spectra::SortRule::LargestAlge, 1000, 1e-10);
-    if (solver.info() != Spectra::CompInfo::Successful) return false;
-    const Eigen::VectorXd lambda = solver.eigenvalues();  // descending
-    const Eigen::MatrixXd vectors = solver.eigenvectors();
-    spectrum.eigenvalues.resize(count);
-    spectrum.eigenvectors.resize(static_cast<std::size_t>(n) * count);
-    for (int m = 0; m < count; ++m) {  // ascending, as the dense solver gives them
-        spectrum.eigenvalues[count - 1 - m] = std::max(lambda[m], 0.0);
-        std::copy_n(vectors.col(m).data(), n, spectrum.eigenvectors.begin() + static_cast<std::size_t>(count - 1 - m) * n);
-    }
-    return true;
+// B's rows that hold anything (most pixels of a fire image see nothing), in order, found in one
+// pass over the whole matrix, and their cut into kRowChunks runs of equal counts: each run is
+// summed on a thread of its own and the runs' sums are added in order, so every product below
+// gives the same bits with any number of threads. The compression runs between two frames' traces,
+// so one core used to wait here.
+constexpr int kRowChunks = 2;
+// Rows a product takes at once: a block of 256 rows of 1632 columns (the bundled sample's) is
+// 1.6 MB in float, read from B once and used while it is in cache.
+constexpr Eigen::Index kBlockRows = 256;
+
+struct NonEmptyRows {
+    std::vector<Eigen::Index> rows;
+    Eigen::Index begin(int chunk) const { return static_cast<Eigen::Index>(rows.size()) * chunk / kRowChunks; }
+};
+
+NonEmptyRows nonEmptyRows(const Eigen::Map<const RowMatrix>& b) {
+    NonEmptyRows out;
+    for (Eigen::Index p = 0; p < b.rows(); ++p)
+        if (b.row(p).cwiseAbs().maxCoeff() != 0.0f) out.rows.push_back(p);
+    return out;
 }
 
-// The lower triangle of the Gram matrix B^T B over B's non-empty rows (most pixels of a fire image
-// see nothing), in double. The rows are cut into kGramChunks runs with equal shares of the
-// non-empty ones, each summed on a thread of its own, and the runs' matrices added in order: the
-// same bits with any number of threads. The compression runs between two frames' traces, so one
-// core used to wait here, and the Gram is most of the SVD's seconds (frame 12 of the bundled sample
-// at 256x256: 23860 non-empty rows of 1632 columns). Memory: kGramChunks Gram matrices while they
-// are summed, within the three the bake's plan counts (bake_pipeline.cpp).
-constexpr int kGramChunks = 2;
-
-Eigen::MatrixXd gramOfNonEmptyRows(const Eigen::Map<const RowMatrix>& b) {
-    const Eigen::Index columns = b.cols();
-    // Which rows hold anything, found once (a pass over the whole matrix) for the split and the sums.
-    std::vector<std::uint8_t> non_empty(static_cast<std::size_t>(b.rows()));
-    Eigen::Index count = 0;
-    for (Eigen::Index p = 0; p < b.rows(); ++p) {
-        non_empty[static_cast<std::size_t>(p)] = b.row(p).cwiseAbs().maxCoeff() != 0.0f;
-        count += non_empty[static_cast<std::size_t>(p)];
-    }
-    // start[c]: the first row of run c, the first where the non-empty rows before it reach
-    // count * c / kGramChunks (p runs to b.rows() inclusive, where they reach count).
-    std::array<Eigen::Index, kGramChunks + 1> start{};
-    start[kGramChunks] = b.rows();
-    std::size_t c = 1;
-    for (Eigen::Index p = 0, seen = 0; p <= b.rows() && c < kGramChunks; ++p) {
-        while (c < kGramChunks && seen >= count * static_cast<Eigen::Index>(c) / kGramChunks) start[c++] = p;
-        if (p < b.rows()) seen += non_empty[static_cast<std::size_t>(p)];
-    }
-    std::array<Eigen::MatrixXd, kGramChunks> part;
-    tbb::parallel_for(0, kGramChunks, [&](int chunk) {
-        Eigen::MatrixXd& gram = part[static_cast<std::size_t>(chunk)];
-        gram = Eigen::MatrixXd::Zero(columns, columns);
-        constexpr int kBlockRows = 256;
-        Eigen::MatrixXd block(kBlockRows, columns);
-        int filled = 0;
-        const auto flush = [&] {
-            if (filled == 0) return;
-            gram.selfadjointView<Eigen::Lower>().rankUpdate(block.topRows(filled).transpose());
-            filled = 0;
-        };
-        for (Eigen::Index p = start[static_cast<std::size_t>(chunk)];
-             p < start[static_cast<std::size_t>(chunk) + 1]; ++p) {
-            if (!non_empty[static_cast<std::size_t>(p)]) continue;
-            block.row(filled++) = b.row(p).cast<double>();
-            if (filled == kBlockRows) flush();
+// Calls visit(chunk, block, filled) for the chunk's rows of B D, kBlockRows at a time (the block's
+// first `filled` rows are set), in `Scalar`, each chunk on a thread of its own.
+template <typename Scalar, typename Visit>
+void forEachRowBlock(const Eigen::Map<const RowMatrix>& b, const NonEmptyRows& nonempty,
+                     const Eigen::VectorXd& balance, Visit&& visit) {
+    using Block = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
+    const Eigen::Matrix<Scalar, 1, Eigen::Dynamic> d = balance.transpose().cast<Scalar>();
+    tbb::parallel_for(0, kRowChunks, [&](int chunk) {
+        Block block(kBlockRows, b.cols());
+        Eigen::Index filled = 0;
+        for (Eigen::Index n = nonempty.begin(chunk), end = nonempty.begin(chunk + 1); n < end; ++n) {
+            block.row(filled++) = b.row(nonempty.rows[static_cast<std::size_t>(n)]).template cast<Scalar>().cwiseProduct(d);
+            if (filled == kBlockRows || n + 1 == end) {
+                visit(chunk, block, filled);
+                filled = 0;
+            }
         }
-        flush();
     });
-    for (int chunk = 1; chunk < kGramChunks; ++chunk) part[0] += part[static_cast<std::size_t>(chunk)];
+}
+
+// The lower triangle of the Gram matrix (B D)^T (B D), in double: for the dense solver. Memory:
+// kRowChunks Gram matrices while they are summed, within the three the bake's plan counts
+// (bake_pipeline.cpp).
+Eigen::MatrixXd gramOfRows(const Eigen::Map<const RowMatrix>& b, const NonEmptyRows& nonempty,
+                           const Eigen::VectorXd& balance) {
+    const Eigen::Index columns = b.cols();
+    std::array<Eigen::MatrixXd, kRowChunks> part;
+    for (Eigen::MatrixXd& gram : part) gram = Eigen::MatrixXd::Zero(columns, columns);
+    forEachRowBlock<double>(b, nonempty, balance, [&](int chunk, const Eigen::MatrixXd& block, Eigen::Index filled) {
+        part[static_cast<std::size_t>(chunk)].selfadjointView<Eigen::Lower>().rankUpdate(block.topRows(filled).transpose());
+    });
+    for (int chunk = 1; chunk < kRowChunks; ++chunk) part[0] += part[static_cast<std::size_t>(chunk)];
     return std::move(part[0]);
+}
+
+// G Q for the Gram matrix G = (B D)^T (B D) without forming it: (B D)^T ((B D) Q), a block of rows
+// at a time, in float (the iteration only has to find the subspace; the Rayleigh-Ritz step below
+// measures in double).
+Eigen::MatrixXd gramTimes(const Eigen::Map<const RowMatrix>& b, const NonEmptyRows& nonempty,
+                          const Eigen::VectorXd& balance, const Eigen::MatrixXd& q) {
+    const Eigen::MatrixXf qf = q.cast<float>();
+    std::array<Eigen::MatrixXf, kRowChunks> part;
+    for (Eigen::MatrixXf& z : part) z = Eigen::MatrixXf::Zero(q.rows(), q.cols());
+    forEachRowBlock<float>(b, nonempty, balance, [&](int chunk, const Eigen::MatrixXf& block, Eigen::Index filled) {
+        const Eigen::MatrixXf y = block.topRows(filled) * qf;
+        part[static_cast<std::size_t>(chunk)].noalias() += block.topRows(filled).transpose() * y;
+    });
+    Eigen::MatrixXd z = part[0].cast<double>();
+    for (int chunk = 1; chunk < kRowChunks; ++chunk) z += part[static_cast<std::size_t>(chunk)].cast<double>();
+    return z;
+}
+
+// Q^T G Q in double: the Rayleigh quotient whose eigenpairs are the Ritz pairs of G on span(Q).
+Eigen::MatrixXd projectedGram(const Eigen::Map<const RowMatrix>& b, const NonEmptyRows& nonempty,
+                              const Eigen::VectorXd& balance, const Eigen::MatrixXd& q) {
+    std::array<Eigen::MatrixXd, kRowChunks> part;
+    for (Eigen::MatrixXd& h : part) h = Eigen::MatrixXd::Zero(q.cols(), q.cols());
+    forEachRowBlock<double>(b, nonempty, balance, [&](int chunk, const Eigen::MatrixXd& block, Eigen::Index filled) {
+        const Eigen::MatrixXd w = block.topRows(filled) * q;
+        part[static_cast<std::size_t>(chunk)].noalias() += w.transpose() * w;
+    });
+    for (int chunk = 1; chunk < kRowChunks; ++chunk) part[0] += part[static_cast<std::size_t>(chunk)];
+    return std::move(part[0]);
+}
+
+Eigen::MatrixXd orthonormalColumns(const Eigen::MatrixXd& z) {
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(z);
+    return qr.householderQ() * Eigen::MatrixXd::Identity(z.rows(), z.cols());
+}
+
+// The `count` largest eigenpairs of G = (B D)^T (B D) by block subspace iteration on B D itself
+// (Halko, Martinsson and Tropp's randomized range finder with power iterations, then Rayleigh-
+// Ritz), without the Gram matrix: forming it cost a frame's rows times columns^2 (frame 12 of the
+// bundled sample at 256x256: 23860 rows of 1632 columns, 4.7 s of its 16.6 s bake), where an
+// iteration costs rows times columns times 2 `count`. The subspace holds 2 `count` vectors and is
+// iterated until the sum of its leading `count` Ritz values moves by at most `tolerance`. The Ritz
+// values are at most the true eigenvalues (Cauchy interlacing), and for Ritz vectors v,
+// ||B D v||^2 is exactly the Ritz value: the dropped energy total - sum of them is exactly the
+// error of the truncation that compressFrameBasis stores with these vectors, so a rank chosen from
+// them keeps its bound; only the rank can be larger than the exact spectrum's, where the
+// iteration has not converged. By hand, not with a library: Spectra's Lanczos solver (which took
+// the pairs from the Gram matrix before) multiplies by one vector at a time, which on B itself is
+// two passes over the whole matrix (150-400 MB) per product and a hundred or more products; a
+// block of 2 `count` vectors is one pass, and Eigen's products do the arithmetic.
+// `subspace` holds the previous call's subspace (a smaller count's), which starts this one: its
+// vectors are already near the leading ones. It returns with this call's.
+void leadingSpectrum(const Eigen::Map<const RowMatrix>& b, const NonEmptyRows& nonempty,
+                     const Eigen::VectorXd& balance, int count, double tolerance, FrameSpectrum& spectrum,
+                     Eigen::MatrixXd& subspace) {
+    const auto columns = static_cast<Eigen::Index>(b.cols());
+    const Eigen::Index width = std::min<Eigen::Index>(columns, 2 * static_cast<Eigen::Index>(count));
+    // A fixed start: the same pairs for the same matrix.
+    render::Pcg32 rng(0x5eed5eedULL);
+    Eigen::MatrixXd start(columns, width);
+    const Eigen::Index kept = std::min(subspace.cols(), width);
+    start.leftCols(kept) = subspace.leftCols(kept);
+    for (Eigen::Index j = kept; j < width; ++j)
+        for (Eigen::Index i = 0; i < columns; ++i) start(i, j) = 2.0 * rng.uniform() - 1.0;
+    Eigen::MatrixXd q = orthonormalColumns(start);
+    // At most this many products with G; a real frame's sum settled in 3-5.
+    constexpr int kMaxIterations = 16;
+    double previous = -1.0;
+    for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
+        const Eigen::MatrixXd z = gramTimes(b, nonempty, balance, q);
+        // Q^T G Q from the product just made (in float): only to see the iteration settle.
+        const Eigen::MatrixXd h = q.transpose() * z;
+        const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz(0.5 * (h + h.transpose()), Eigen::EigenvaluesOnly);
+        const double sum = ritz.eigenvalues().tail(count).sum();
+        q = orthonormalColumns(z);
+        if (previous >= 0.0 && std::fabs(sum - previous) <= tolerance) break;
+        previous = sum;
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz(projectedGram(b, nonempty, balance, q));
+    subspace = q * ritz.eigenvectors().rowwise().reverse();  // the Ritz vectors, the largest first
+    const Eigen::MatrixXd vectors = q * ritz.eigenvectors().rightCols(count);  // ascending
+    spectrum.eigenvalues.resize(static_cast<std::size_t>(count));
+    for (int m = 0; m < count; ++m)
+        spectrum.eigenvalues[static_cast<std::size_t>(m)] = std::max(ritz.eigenvalues()[width - count + m], 0.0);
+    spectrum.eigenvectors.assign(vectors.data(), vectors.data() + vectors.size());
 }
 
 }  // namespace
@@ -116,30 +187,48 @@ Eigen::MatrixXd gramOfNonEmptyRows(const Eigen::Map<const RowMatrix>& b) {
 FrameSpectrum frameSpectrum(const FrameBasis& basis, const BasisSources& sources, const SpectrumNeeds& needs) {
     const int columns = basis.columns;
     const Eigen::Map<const RowMatrix> b = basisMatrix(basis);
+    const NonEmptyRows nonempty = nonEmptyRows(b);
 
-    Eigen::MatrixXd gram = gramOfNonEmptyRows(b);
+    // Each column's energy (the Gram matrix's diagonal), in double, over the non-empty rows.
+    std::array<Eigen::VectorXd, kRowChunks> part;
+    for (Eigen::VectorXd& e : part) e = Eigen::VectorXd::Zero(columns);
+    forEachRowBlock<double>(b, nonempty, Eigen::VectorXd::Ones(columns),
+                            [&](int chunk, const Eigen::MatrixXd& block, Eigen::Index filled) {
+                                part[static_cast<std::size_t>(chunk)] +=
+                                    block.topRows(filled).cwiseAbs2().colwise().sum().transpose();
+                            });
+    for (int chunk = 1; chunk < kRowChunks; ++chunk) part[0] += part[static_cast<std::size_t>(chunk)];
+    const Eigen::VectorXd& column_energy = part[0];
 
     FrameSpectrum spectrum;
     spectrum.columns = columns;
     spectrum.balance.assign(columns, 1.0);
     if (sources.columns_per_point > 0 && columns % sources.columns_per_point == 0) {
-        // The Gram matrix of B D, D the per-source factors (basis/source_balance.h): D G D.
+        // The SVD is of B D, D the per-source factors (basis/source_balance.h).
         std::vector<double> energy(sources.columns_per_point, 0.0);
-        for (int j = 0; j < columns; ++j) energy[j % sources.columns_per_point] += gram(j, j);
+        for (int j = 0; j < columns; ++j) energy[j % sources.columns_per_point] += column_energy[j];
         const std::vector<double> factor = basis::sourceBalance(energy, sources.bins);
         for (int j = 0; j < columns; ++j) spectrum.balance[j] = factor[j % sources.columns_per_point];
-        const Eigen::Map<const Eigen::VectorXd> d(spectrum.balance.data(), columns);
-        const Eigen::MatrixXd full = gram.selfadjointView<Eigen::Lower>();
-        gram = d.asDiagonal() * full * d.asDiagonal();
     }
-    spectrum.total = std::max(gram.trace(), 0.0);
+    const Eigen::Map<const Eigen::VectorXd> d(spectrum.balance.data(), columns);
+    spectrum.total = column_energy.dot(d.cwiseAbs2());
     const bool all = needs.max_rank <= 0;
     const int cap = all ? columns : std::min(needs.max_rank, columns);
+    // What the subspace iteration may leave of the dropped energy it is judged by: a hundredth, but
+    // not below the float products' rounding of the Ritz values' sum (about 1e-8 of the total).
+    const double tolerance = std::max(0.01 * needs.finest_error * needs.finest_error, 1e-7) * spectrum.total;
+    Eigen::MatrixXd subspace;
     for (int count = std::min(kFirstLeading, cap);; count = std::min(2 * count, cap)) {
-        if (all || columns <= kDenseColumns || 3 * count >= columns || !leadingSpectrum(gram, count, spectrum)) {
-            denseSpectrum(gram, spectrum);
+        if (all || columns <= kDenseColumns || 3 * count >= columns) {
+            denseSpectrum(gramOfRows(b, nonempty, d), spectrum);
             break;
         }
+        if (!(spectrum.total > 0.0)) {  // nothing to find: an empty frame
+            spectrum.eigenvalues.assign(static_cast<std::size_t>(count), 0.0);
+            spectrum.eigenvectors.assign(static_cast<std::size_t>(columns) * count, 0.0);
+            break;
+        }
+        leadingSpectrum(b, nonempty, d, count, tolerance, spectrum, subspace);
         double dropped = spectrum.total;
         for (double lambda : spectrum.eigenvalues) dropped -= lambda;
         if (count == cap || dropped <= needs.finest_error * needs.finest_error * spectrum.total) break;

@@ -1,16 +1,18 @@
 // Per-frame SVD of the basis matrix B (pixels x columns) and the quantised
 // factors stored in the package (docs/model.md).
 //
-// Method: the Gram matrix B^T B is accumulated in double precision and
-// eigen-decomposed; V and S come from it and U = B V S^-1. In double precision,
-// singular values down to ~1e-7 of the largest are resolved, far below any
-// truncation target we use. A frame keeps at most max_rank (128) of its
-// columns' 1000-6000 singular vectors, so only the leading eigenpairs are
-// computed (Spectra's Lanczos solver, libspectra-dev) where the columns are
-// many: a dense solver's cost is cubic in the columns (a 5664-column frame with
-// sphere lights: minutes), the leading pairs' about rank x columns^2. The
-// dropped energy is then the Gram matrix's trace less the leading eigenvalues:
-// the truncation error stays exact.
+// Method: V and S are eigenpairs of the Gram matrix B^T B and U = B V S^-1. A
+// frame keeps at most max_rank (128) of its columns' 1000-6000 singular vectors,
+// so where the columns are many only the leading eigenpairs are computed, by
+// block subspace iteration on B itself (basis_compression.cpp): each iteration
+// costs rows x columns x 2 pairs, where forming the Gram matrix cost rows x
+// columns^2 and a dense solver columns^3 (a 5664-column frame with sphere
+// lights: minutes). The Ritz values it gives are at most the eigenvalues, and
+// the dropped energy is B's squared norm (in double) less them: exactly the
+// error of the truncation stored with those vectors, so the truncation error
+// stays exact; where the iteration has not settled, the rank can only be larger.
+// With few columns, or every pair asked for, the Gram matrix is accumulated in
+// double and eigen-decomposed whole.
 #pragma once
 
 #include <vector>

@@ -48,27 +48,41 @@ class FootprintTest {
         k_f_ = withMidpoints(d.axes.flame_extinction);
     }
     bool needsRays(const std::vector<double>& o, const std::vector<double>& smoke, double mean_o,
-                   const std::vector<double>& mean_smoke) const {
+                   const std::vector<double>& mean_smoke) {
         const size_t samples = o.size(), thresholds = mean_smoke.size();
         bool uniform = true;
         for (size_t s = 1; s < samples && uniform; ++s) uniform = o[s] == o[0];
         for (size_t i = thresholds; i < smoke.size() && uniform; ++i) uniform = smoke[i] == smoke[i % thresholds];
         if (uniform) return false;
         if (!(tolerance_ > 0.0)) return true;
-        for (size_t j = 0; j < thresholds; ++j)
-            for (double ks : k_s_)
-                for (double kf : k_f_) {
+        // A ray's transmittance exp(-(k_f O + (k_s - k_f) S)) is exp(-k_f (O - S)) exp(-k_s S): one
+        // exponential per sample of each axis instead of one per pair of them (the exponentials were
+        // most of a frame's encoding, which runs on one core).
+        const size_t n_s = k_s_.size(), n_f = k_f_.size();
+        smoke_factor_.resize((samples + 1) * n_s);
+        flame_factor_.resize((samples + 1) * n_f);
+        for (size_t j = 0; j < thresholds; ++j) {
+            for (size_t s = 0; s <= samples; ++s) {  // s == samples: the mean ray
+                const double o_s = s < samples ? o[s] : mean_o;
+                const double smoke_s = s < samples ? smoke[s * thresholds + j] : mean_smoke[j];
+                for (size_t a = 0; a < n_s; ++a) smoke_factor_[s * n_s + a] = std::exp(-k_s_[a] * smoke_s);
+                for (size_t a = 0; a < n_f; ++a) flame_factor_[s * n_f + a] = std::exp(-k_f_[a] * (o_s - smoke_s));
+            }
+            for (size_t a = 0; a < n_s; ++a)
+                for (size_t b = 0; b < n_f; ++b) {
                     double sum = 0.0;
-                    for (size_t s = 0; s < samples; ++s) sum += std::exp(-(kf * o[s] + (ks - kf) * smoke[s * thresholds + j]));
-                    const double gap = sum / samples - std::exp(-(kf * mean_o + (ks - kf) * mean_smoke[j]));
+                    for (size_t s = 0; s < samples; ++s) sum += smoke_factor_[s * n_s + a] * flame_factor_[s * n_f + b];
+                    const double gap = sum / samples - smoke_factor_[samples * n_s + a] * flame_factor_[samples * n_f + b];
                     if (std::abs(gap) > tolerance_) return true;
                 }
+        }
         return false;
     }
 
   private:
     double tolerance_;
     std::vector<double> k_s_, k_f_;
+    std::vector<double> smoke_factor_, flame_factor_;  // per sample and axis value, the mean ray last
 };
 
 // The step of a uniform grid on which rounding `count` values adds a Frobenius error of about
@@ -222,7 +236,7 @@ EncodedFrame encodeFrame(const BakeDescription& description, const FrameFactors&
             }
             return d;
         };
-        const FootprintTest footprint(description, settings.footprint_error);
+        FootprintTest footprint(description, settings.footprint_error);
         // Planes: 0 = q(O_b), 1 = e_0, 1 + j = e_(j-1) - e_j, with e_j = q(O_b) - q(S_j) (0 where no
         // flame is crossed); for the mean ray of every pixel (image) and for every ray (lattice).
         const size_t planes = 1 + thresholds;
