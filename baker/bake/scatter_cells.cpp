@@ -22,29 +22,34 @@ constexpr double kGaussWeight2[2] = {0.5, 0.5};
 constexpr double kGaussNode3[3] = {0.5 - 0.5 * 0.7745966692414834, 0.5, 0.5 + 0.5 * 0.7745966692414834};
 constexpr double kGaussWeight3[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
 
-// A cube takes 2 x 2 x 2 points where its temperatures span at most this many dT (the split's
-// sigmoid scale: s(u) = 1 / (1 + e^u), u = (T - T_c) / dT) and lie on one side of each clamp.
-// Along any axis of the cube the integrand is rho(x) s(u(x)) with rho and u linear, so its fourth
-// derivative is rho s'''' du^4 + 4 rho' s''' du^3 (|s'''|, |s''''| <= 1/8), and the 2-point rule's
-// error is that over 4320 per axis: with du <= 0.5 at most 5e-5 rho_max over the three axes, about
-// 1e-4 of the cube's integral where rho falls from rho_max to 0 across it (and the same share in
-// the sigmoid's tails, whose derivatives scale with s), far below the photon noise a cell holds.
-// Measured (tests/bake/scatter_cells_test.cpp): at most 1e-6 of a cell's mass, with 28% of a real
-// frame's cubes and 91% of the same frame upsampled 3x taking 8 points instead of 64 (0.25: 3% and
-// 72%; 1: 70% and 92% at 1.3e-5).
+// A cube takes 2 Gauss points along an axis where its temperatures change by at most this many dT
+// along that axis (the split's sigmoid scale: s(u) = 1 / (1 + e^u), u = (T - T_c) / dT) and lie on
+// one side of each clamp. Along any axis of the cube the integrand is rho(x) s(u(x)) with rho and u
+// linear, so its fourth derivative is rho s'''' du^4 + 4 rho' s''' du^3 (|s'''|, |s''''| <= 1/8),
+// and the 2-point rule's error is that over 4320 per axis: with du <= 0.5 at most 5e-5 rho_max over
+// the three axes, about 1e-4 of the cube's integral where rho falls from rho_max to 0 across it
+// (and the same share in the sigmoid's tails, whose derivatives scale with s), far below the
+// photon noise a cell holds. The product rule's error is the sum of each axis's rule's error on
+// the lines along it (weighted by the other axes' rules), so each axis takes the rule its own du
+// asks for: du along x is the largest change over the cube's four x edges (u is trilinear, so its
+// slope along x is bilinear in y and z, largest at an edge). Measured with the rule chosen by the
+// cube's whole span on every axis (tests/bake/scatter_cells_test.cpp): at most 1e-6 of a cell's
+// mass, with 28% of a real frame's cubes and 91% of the same frame upsampled 3x taking 8 points
+// instead of 64 (0.25: 3% and 72%; 1: 70% and 92% at 1.3e-5).
 constexpr float kSmoothTemperatureSpan = 0.5f;
 
-// Where a cube's temperatures span at most this many dT (and lie on one side of each clamp), 3 x 3 x
-// 3 points. The 3-point rule's error per axis is the integrand's sixth derivative over 2016000,
-// here rho s^(6) du^6 + 6 rho' s^(5) du^5 with |s^(5)| <= 1/4 and |s^(6)| <= 0.41: at du = 1.5 at
-// most 8e-6 rho_max per axis, 2.4e-5 over the three, half what the 2-point rule is allowed above.
-// Measured: the largest change of a cell's mass stayed 9.1e-7 with 49% of the real frame's cubes
-// taking 27 points; on frame 12 of the bundled sample upsampled 4x, 21% of the cubes take them (55%
-// take 8), and its cells took 3.3 s against 4.5 s at 128x128.
+// Where an axis's temperatures change by at most this many dT (and lie on one side of each clamp),
+// 3 points along it. The 3-point rule's error per axis is the integrand's sixth derivative over
+// 2016000, here rho s^(6) du^6 + 6 rho' s^(5) du^5 with |s^(5)| <= 1/4 and |s^(6)| <= 0.41: at du =
+// 1.5 at most 8e-6 rho_max per axis, 2.4e-5 over the three, half what the 2-point rule is allowed
+// above. Measured with the whole span on every axis: the largest change of a cell's mass stayed
+// 9.1e-7 with 49% of the real frame's cubes taking 27 points; on frame 12 of the bundled sample
+// upsampled 4x, 21% of the cubes took them (55% 8), and its cells took 3.3 s against 4.5 s at
+// 128x128.
 constexpr float kVariedTemperatureSpan = 1.5f;
 
-// Gauss-Legendre points per axis a cube takes (2, 3 or 4) by its temperatures.
-int cubeRule(const glm::vec2 (&corner)[8], const TraceTables& tb) {
+// Gauss-Legendre points along each axis (x, y, z) a cube takes (2, 3 or 4) by its temperatures.
+glm::ivec3 cubeRule(const glm::vec2 (&corner)[8], const TraceTables& tb) {
     float lo = corner[0].y, hi = corner[0].y;
     for (int n = 1; n < 8; ++n) {
         lo = std::min(lo, corner[n].y);
@@ -52,9 +57,27 @@ int cubeRule(const glm::vec2 (&corner)[8], const TraceTables& tb) {
     }
     // The split clamps T to [t_lo, t_hi]: a cube across either end has a kink inside.
     const bool one_side = hi <= tb.t_lo || lo >= tb.t_hi || (lo >= tb.t_lo && hi <= tb.t_hi);
-    if (!one_side) return 4;
-    const float span = (hi - lo) * 2.0f * tb.inv_2dt;  // in dT
-    return span <= kSmoothTemperatureSpan ? 2 : span <= kVariedTemperatureSpan ? 3 : 4;
+    if (!one_side) return glm::ivec3(4);
+    glm::ivec3 rule;
+    for (int axis = 0; axis < 3; ++axis) {
+        const int bit = 1 << axis;  // corners are x fastest: corner n + bit is n's neighbour along axis
+        float change = 0.0f;
+        for (int n = 0; n < 8; ++n)
+            if (!(n & bit)) change = std::max(change, std::fabs(corner[n + bit].y - corner[n].y));
+        const float span = change * 2.0f * tb.inv_2dt;  // in dT
+        rule[axis] = span <= kSmoothTemperatureSpan ? 2 : span <= kVariedTemperatureSpan ? 3 : 4;
+    }
+    return rule;
+}
+
+struct GaussRule {
+    const double* node;
+    const double* weight;
+};
+GaussRule gaussRule(int points) {
+    return points == 2   ? GaussRule{kGaussNode2, kGaussWeight2}
+           : points == 3 ? GaussRule{kGaussNode3, kGaussWeight3}
+                         : GaussRule{kGaussNode4, kGaussWeight4};
 }
 }  // namespace
 
@@ -140,8 +163,8 @@ ScatterCells buildScatterCells(const render::Medium& medium, const TraceTables& 
     const std::size_t n_cells = static_cast<std::size_t>(cells.count.x) * cells.count.y * cells.count.z;
     // Per cell, the integrals of the smoke and flame parts of the density per sampled T_c: sigma_s
     // of every grid point is a linear combination of them, so 2 n_tc sums give all G masses.
-    // Each unit cube is integrated with 4 x 4 x 4 Gauss points (2 x 2 x 2 or 3 x 3 x 3 where its
-    // temperature is smooth: cubeRule), not its centre alone: the parts are
+    // Each unit cube is integrated with 4 Gauss points along each axis (2 or 3 along an axis where
+    // its temperature changes little: cubeRule), not at its centre alone: the parts are
     // rho (1 -+ f(T - T_c)) / 2, a product of the trilinear density and a sigmoid of the trilinear
     // temperature, and where density and temperature change together across a voxel (every flame
     // front, and the fringe where both fall to the background) the centre misjudges them and moves
@@ -155,36 +178,36 @@ ScatterCells buildScatterCells(const render::Medium& medium, const TraceTables& 
     // large frame takes up to a few tenths of a second, so a stop is seen within that.
     std::atomic<int> layers_done{0};
     std::atomic<bool> stop{false};
-    std::atomic<std::size_t> cubes{0}, smooth_cubes{0}, varied_cubes{0};
+    std::atomic<std::size_t> cubes{0}, smooth_cubes{0}, varied_cubes{0}, points{0};
     tbb::parallel_for(0, cells.count.z, [&](int cz) {
         if (stop.load(std::memory_order_relaxed)) return;
         float smoke[kMaxAxisSamples], flame[kMaxAxisSamples];
-        std::size_t slab_cubes = 0, slab_smooth = 0, slab_varied = 0;
+        std::size_t slab_cubes = 0, slab_smooth = 0, slab_varied = 0, slab_points = 0;
         forEachCubeInSlab(medium, cz * cells.edge, (cz + 1) * cells.edge,
                           [&](const glm::ivec3& q, const glm::vec2(&corner)[8], float, float) {
                               const glm::ivec3 c = (q - glm::ivec3(cells.origin)) / cells.edge;
                               if (c.x >= cells.count.x || c.y >= cells.count.y) return;
                               double* sums = part_sums.data() + cells.cellIndex(c) * parts;
-                              const int n = cubeRule(corner, tb);
+                              const glm::ivec3 n = cubeRule(corner, tb);
                               ++slab_cubes;
-                              slab_smooth += n == 2;
-                              slab_varied += n == 3;
-                              const double* node = n == 2 ? kGaussNode2 : n == 3 ? kGaussNode3 : kGaussNode4;
-                              const double* weight = n == 2 ? kGaussWeight2 : n == 3 ? kGaussWeight3 : kGaussWeight4;
+                              slab_smooth += n == glm::ivec3(2);
+                              slab_varied += std::max({n.x, n.y, n.z}) == 3;
+                              slab_points += static_cast<std::size_t>(n.x) * n.y * n.z;
+                              const GaussRule rx = gaussRule(n.x), ry = gaussRule(n.y), rz = gaussRule(n.z);
                               // Trilinear between the corners (as sampleIndex), z first, then y, then x.
-                              for (int l = 0; l < n; ++l) {
-                                  const float fz = static_cast<float>(node[l]);
+                              for (int l = 0; l < n.z; ++l) {
+                                  const float fz = static_cast<float>(rz.node[l]);
                                   glm::vec2 in_z[4];
                                   for (int e = 0; e < 4; ++e)
                                       in_z[e] = corner[e] + (corner[e + 4] - corner[e]) * fz;
-                                  for (int j = 0; j < n; ++j) {
-                                      const float fy = static_cast<float>(node[j]);
+                                  for (int j = 0; j < n.y; ++j) {
+                                      const float fy = static_cast<float>(ry.node[j]);
                                       const glm::vec2 y0 = in_z[0] + (in_z[2] - in_z[0]) * fy;
                                       const glm::vec2 y1 = in_z[1] + (in_z[3] - in_z[1]) * fy;
-                                      for (int i = 0; i < n; ++i) {
-                                          const glm::vec2 v = y0 + (y1 - y0) * static_cast<float>(node[i]);
+                                      for (int i = 0; i < n.x; ++i) {
+                                          const glm::vec2 v = y0 + (y1 - y0) * static_cast<float>(rx.node[i]);
                                           if (!(v.x > 0.0f)) continue;
-                                          const double w = weight[i] * weight[j] * weight[l];
+                                          const double w = rx.weight[i] * ry.weight[j] * rz.weight[l];
                                           tb.split(v.x, v.y, smoke, flame);
                                           for (int a = 0; a < tb.n_tc; ++a) {
                                               sums[a] += w * smoke[a];
@@ -197,6 +220,7 @@ ScatterCells buildScatterCells(const render::Medium& medium, const TraceTables& 
         cubes += slab_cubes;
         smooth_cubes += slab_smooth;
         varied_cubes += slab_varied;
+        points += slab_points;
         const double done = double(++layers_done) / cells.count.z;
         if (progress && !progress(done)) stop.store(true);
     });
@@ -204,6 +228,7 @@ ScatterCells buildScatterCells(const render::Medium& medium, const TraceTables& 
     cells.cubes = cubes.load();
     cells.smooth_cubes = smooth_cubes.load();
     cells.varied_cubes = varied_cubes.load();
+    cells.gauss_points = points.load();
     cells.slot.assign(n_cells, -1);
     for (std::size_t c = 0; c < n_cells; ++c) {
         bool any = false;

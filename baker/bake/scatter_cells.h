@@ -31,9 +31,11 @@ struct ScatterCells {
     int slots = 0;
     // Per slot and grid point: M = integral of sigma_s over the cell, in world volume.
     std::vector<float> mass;
-    // Unit cubes with density that were integrated, and those whose temperatures were smooth
-    // enough for 2 x 2 x 2 Gauss points, or 3 x 3 x 3, instead of 4 x 4 x 4 (scatter_cells.cpp).
-    std::size_t cubes = 0, smooth_cubes = 0, varied_cubes = 0;
+    // Unit cubes with density that were integrated, those whose temperatures were smooth enough
+    // for 2 Gauss points along every axis, and those that took 3 along some axis and 4 along none
+    // (each axis takes 2, 3 or 4 by its own temperature change: scatter_cells.cpp); the Gauss
+    // points of all of them.
+    std::size_t cubes = 0, smooth_cubes = 0, varied_cubes = 0, gauss_points = 0;
 
     std::size_t cellIndex(const glm::ivec3& c) const {
         return static_cast<std::size_t>(c.x) +

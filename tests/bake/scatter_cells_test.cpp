@@ -152,10 +152,11 @@ TEST(ScatterCells, SmoothCubesTakeFewerPointsAtTheSameMass) {
         }
         const double smooth_share = double(cells.smooth_cubes) / double(cells.cubes);
         const double varied_share = double(cells.varied_cubes) / double(cells.cubes);
+        const double points_per_cube = double(cells.gauss_points) / double(cells.cubes);
         std::printf(
-            "[measured] %dx: %zu cubes, %.1f%% with 2 x 2 x 2 points, %.1f%% with 3 x 3 x 3; worst relative "
-            "mass change %.2e\n",
-            factor, cells.cubes, 100.0 * smooth_share, 100.0 * varied_share, worst);
+            "[measured] %dx: %zu cubes, %.1f%% with 2 x 2 x 2 points, %.1f%% with 3 along some axis; %.1f "
+            "points a cube; worst relative mass change %.2e\n",
+            factor, cells.cubes, 100.0 * smooth_share, 100.0 * varied_share, points_per_cube, worst);
         EXPECT_LT(worst, 1e-4);
         if (factor == 3) {
             EXPECT_GT(smooth_share, 0.5);
