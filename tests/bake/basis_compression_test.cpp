@@ -41,6 +41,24 @@ FrameBasis knownBasis(const std::vector<double>& s, int columns = 6) {
     return b;
 }
 
+// width x height pixels of `columns` columns with singular values `s` (descending): a DCT basis on
+// every `row_step`-th pixel's row (the others empty, as most of a fire image is).
+FrameBasis spectrumBasis(int width, int height, int columns, const std::vector<double>& s, int row_step = 1) {
+    FrameBasis b;
+    b.width = width;
+    b.height = height;
+    b.columns = columns;
+    const int pixels = width * height, used = pixels / row_step;
+    b.matrix.assign(static_cast<size_t>(pixels) * columns, 0.0f);
+    for (int q = 0; q < used; ++q)
+        for (int j = 0; j < columns; ++j) {
+            double v = 0.0;
+            for (size_t k = 0; k < s.size(); ++k) v += s[k] * dct(int(k), q, used) * dct(int(k), j, columns);
+            b.matrix[static_cast<size_t>(row_step * q + row_step - 1) * columns + j] = static_cast<float>(v);
+        }
+    return b;
+}
+
 // ||U S V^T - B||_F / ||B||_F with U decoded from half precision, in double.
 double reconstructionError(const FrameBasis& b, const CompressedFrame& c) {
     const std::vector<float> u = basis::decodeU(c.factors);
@@ -197,18 +215,7 @@ TEST(BasisCompression, SameInputSameFactors) {
 TEST(BasisCompression, LeadingPairsTruncateAsTheDenseSolverDoes) {
     std::vector<double> s;
     for (int k = 0; k < 100; ++k) s.push_back(std::pow(0.8, k));
-    FrameBasis b;
-    b.width = 30;
-    b.height = 24;
-    b.columns = 600;
-    const int pixels = b.width * b.height;
-    b.matrix.assign(static_cast<size_t>(pixels) * b.columns, 0.0f);
-    for (int p = 0; p < pixels; ++p)
-        for (int j = 0; j < b.columns; ++j) {
-            double v = 0.0;
-            for (size_t k = 0; k < s.size(); ++k) v += s[k] * dct(int(k), p, pixels) * dct(int(k), j, b.columns);
-            b.matrix[static_cast<size_t>(p) * b.columns + j] = static_cast<float>(v);
-        }
+    const FrameBasis b = spectrumBasis(30, 24, 600, s);
     const FrameSpectrum dense = frameSpectrum(b);
     ASSERT_EQ(dense.eigenvalues.size(), 600u);
     for (const auto& [finest, pairs] : {std::pair{0.003, 32u}, std::pair{1e-4, 64u}}) {
@@ -241,18 +248,8 @@ TEST(BasisCompression, LeadingPairsTruncateAsTheDenseSolverDoes) {
 TEST(BasisCompression, LeadingPairsReportWhatTheyStore) {
     std::vector<double> s;
     for (int k = 0; k < 300; ++k) s.push_back(std::pow(0.97, k));
-    FrameBasis b;
-    b.width = 30;
-    b.height = 20;
-    b.columns = 600;
-    const int pixels = b.width * b.height, used = pixels / 2;
-    b.matrix.assign(static_cast<size_t>(pixels) * b.columns, 0.0f);
-    for (int q = 0; q < used; ++q)
-        for (int j = 0; j < b.columns; ++j) {
-            double v = 0.0;
-            for (size_t k = 0; k < s.size(); ++k) v += s[k] * dct(int(k), q, used) * dct(int(k), j, b.columns);
-            b.matrix[static_cast<size_t>(2 * q + 1) * b.columns + j] = static_cast<float>(v);
-        }
+    const FrameBasis b = spectrumBasis(30, 20, 600, s, 2);
+    const int pixels = b.width * b.height;
     const double finest = 0.03;  // needs rank 116 of 0.97^k: more than the first 32 and 64 pairs
     const FrameSpectrum dense = frameSpectrum(b);
     const FrameSpectrum leading = frameSpectrum(b, {}, {finest, 300});
