@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 
 #include "bake/camera_march.h"
@@ -337,7 +338,10 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     tbb::parallel_for(tbb::blocked_range<int>(0, out.height, 4), [&](const tbb::blocked_range<int>& rows) {
         CameraMarch ray_march(medium, tb, cells, light_depths, camera, depth_step, settings.footprint_step,
                               !lbar_sum.empty());
-        CameraMarch radiance_march(medium, tb, cells, light_depths, camera, camera_step, settings.footprint_step,
+        // The radiance rays' own march, where they are not the footprint rays at alpha's step.
+        std::optional<CameraMarch> radiance_march;
+        if (!shared)
+            radiance_march.emplace(medium, tb, cells, light_depths, camera, camera_step, settings.footprint_step,
                                    !lbar_sum.empty());
         std::vector<double> depth_a(tb.n_alpha);
         const float radiance_weight = 1.0f / static_cast<float>(out.radiance_samples);
@@ -365,8 +369,8 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
                     addGathered(ray_march, lbar_sum, row);
                     continue;
                 }
-                radiance_march.beginPixel();
-                gatherRadianceRays(radiance_march, lbar_sum, out.width, px, py, radiance_per_axis, row);
+                radiance_march->beginPixel();
+                gatherRadianceRays(*radiance_march, lbar_sum, out.width, px, py, radiance_per_axis, row);
             }
             gate.report(0.6 + 0.4 * (rows_done.fetch_add(1) + 1) / out.height);
         }

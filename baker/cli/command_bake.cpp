@@ -83,7 +83,6 @@ void writeReportJson(const std::string& path, const std::string& sequence, const
                                   {"mean_change", c.mean_change},
                                   {"alpha_error", c.alpha_error}});
         frames[i]["radiance_candidates"] = std::move(candidates);
-
     }
     // The sequence's path as typed is provenance of this run, not of the package, whose bytes do
     // not depend on it.
