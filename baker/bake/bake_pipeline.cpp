@@ -402,7 +402,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
                         "frame " + std::to_string(frame_number) + " needs an estimated " +
                             mib(plan.peakBytes()) + " (basis images " + mib(plan.trace.basis_bytes) +
                             ", optical depths " + mib(plan.trace.depth_bytes) + ", scattered light " +
-                            mib(plan.trace.cell_bytes) + ", medium " + mib(plan.trace.medium_bytes) +
+                            mib(plan.trace.cell_bytes + plan.trace.sampler_bytes) + ", medium " + mib(plan.trace.medium_bytes) +
                             ", compression " + mib(plan.compression_bytes) +
                             "), more than the memory budget of " + mib(budget) +
                             "; lower --size, --bins or the look axes' samples, or raise --memory-budget");

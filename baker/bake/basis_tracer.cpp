@@ -18,6 +18,7 @@
 #include "bake/light_depth_field.h"
 #include "bake/photon_noise.h"
 #include "bake/photon_pass.h"
+#include "bake/photon_start_sampler.h"
 #include "bake/scatter_cells.h"
 #include "bake/scattered_light.h"
 #include "bake/trace_tables.h"
@@ -154,6 +155,7 @@ TracePlan planFrameTrace(const render::Medium& medium, const render::Camera& cam
     const glm::ivec3 lattice = lightLatticeCount(medium, plan.light_spacing_voxels);
     plan.light_bytes = static_cast<std::size_t>(lattice.x) * lattice.y * lattice.z * tb.lights * 2 * tb.n_tc *
                        sizeof(float);
+    if (model.albedo > 0.0) plan.sampler_bytes = 2 * PhotonStartSampler::bytesFor(medium);
     const auto cellBytes = [&](int edge, std::size_t slots) {
         const std::size_t field = slots * G * C * sizeof(float);
         // The chains' sum and signed sum (scattered_light.h), the previous order, and what a photon

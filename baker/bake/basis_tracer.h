@@ -251,9 +251,10 @@ struct TracePlan {
     std::size_t depth_bytes = 0;    // per-ray optical depths
     std::size_t cell_bytes = 0;     // scattered-light fields and their photon buffers
     std::size_t light_bytes = 0;    // light depth lattice
+    std::size_t sampler_bytes = 0;  // the photon start samplers' cube weights
     std::size_t medium_bytes = 0;   // the medium as given (already resident)
     std::size_t totalBytes() const {
-        return basis_bytes + depth_bytes + cell_bytes + light_bytes + medium_bytes;
+        return basis_bytes + depth_bytes + cell_bytes + light_bytes + sampler_bytes + medium_bytes;
     }
     bool fits = true;               // false if even the coarsest cells exceed the budget
 };

@@ -26,27 +26,24 @@ constexpr double kGaussWeight3[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
 // along that axis (the split's sigmoid scale: s(u) = 1 / (1 + e^u), u = (T - T_c) / dT) and lie on
 // one side of each clamp. Along any axis of the cube the integrand is rho(x) s(u(x)) with rho and u
 // linear, so its fourth derivative is rho s'''' du^4 + 4 rho' s''' du^3 (|s'''|, |s''''| <= 1/8),
-// and the 2-point rule's error is that over 4320 per axis: with du <= 0.5 at most 5e-5 rho_max over
-// the three axes, about 1e-4 of the cube's integral where rho falls from rho_max to 0 across it
-// (and the same share in the sigmoid's tails, whose derivatives scale with s), far below the
-// photon noise a cell holds. The product rule's error is the sum of each axis's rule's error on
-// the lines along it (weighted by the other axes' rules), so each axis takes the rule its own du
-// asks for: du along x is the largest change over the cube's four x edges (u is trilinear, so its
-// slope along x is bilinear in y and z, largest at an edge). Measured with the rule chosen by the
-// cube's whole span on every axis (tests/bake/scatter_cells_test.cpp): at most 1e-6 of a cell's
-// mass, with 28% of a real frame's cubes and 91% of the same frame upsampled 3x taking 8 points
-// instead of 64 (0.25: 3% and 72%; 1: 70% and 92% at 1.3e-5).
-constexpr float kSmoothTemperatureSpan = 0.5f;
+// and the 2-point rule's error is that over 4320 per axis: with du <= 0.85 at most 8.6e-5 rho_max
+// per axis, 2.6e-4 over the three, where rho falls from rho_max to 0 across the cube (and the same
+// share in the sigmoid's tails, whose derivatives scale with s): a bias some thirty times below the
+// photon noise a cell holds (0.5-1%). The product rule's error is the sum of each axis's rule's
+// error on the lines along it (weighted by the other axes' rules), so each axis takes the rule its
+// own du asks for: du along x is the largest change over the cube's four x edges (u is trilinear,
+// so its slope along x is bilinear in y and z, largest at an edge). Measured against 64 points in
+// every cube (tests/bake/scatter_cells_test.cpp): at most 1.3e-5 of a cell's mass on a real frame,
+// whose cubes take 11.2 points on average (15.5 with 0.5 here and 1.5 below, at 1.4e-6).
+constexpr float kSmoothTemperatureSpan = 0.85f;
 
 // Where an axis's temperatures change by at most this many dT (and lie on one side of each clamp),
 // 3 points along it. The 3-point rule's error per axis is the integrand's sixth derivative over
 // 2016000, here rho s^(6) du^6 + 6 rho' s^(5) du^5 with |s^(5)| <= 1/4 and |s^(6)| <= 0.41: at du =
-// 1.5 at most 8e-6 rho_max per axis, 2.4e-5 over the three, half what the 2-point rule is allowed
-// above. Measured with the whole span on every axis: the largest change of a cell's mass stayed
-// 9.1e-7 with 49% of the real frame's cubes taking 27 points; on frame 12 of the bundled sample
-// upsampled 4x, 21% of the cubes took them (55% 8), and its cells took 3.3 s against 4.5 s at
-// 128x128.
-constexpr float kVariedTemperatureSpan = 1.5f;
+// 2.4 at most 9.8e-5 rho_max per axis, as the 2-point rule's above. On frame 12 of the bundled
+// sample upsampled 4x at 128x128 the cells and the photon sources took 1.7 s against 2.1 s with
+// 0.5 and 1.5.
+constexpr float kVariedTemperatureSpan = 2.4f;
 
 // Gauss-Legendre points along each axis (x, y, z) a cube takes (2, 3 or 4) by its temperatures.
 glm::ivec3 cubeRule(const glm::vec2 (&corner)[8], const TraceTables& tb) {

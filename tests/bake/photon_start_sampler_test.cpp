@@ -44,6 +44,9 @@ TEST(PhotonStartSampler, StratifiedDrawsGiveEveryCubeItsShare) {
     EXPECT_NEAR(total_probability, 1.0, 1e-4);
     // Independent draws would miss by sqrt(N p) ~ 7 photons in a cube of this box (~5000 cubes).
     EXPECT_LE(worst, 1);
+    // The memory plan counts what the sampler keeps (its cube weights, brick list and cdf).
+    EXPECT_GT(sampler.bytes(), 0u);
+    EXPECT_LE(sampler.bytes(), PhotonStartSampler::bytesFor(medium));
 }
 
 }  // namespace

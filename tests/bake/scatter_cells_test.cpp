@@ -85,10 +85,11 @@ TEST(ScatterCells, MassIsTheIntegralOfSigmaS) {
 // The masses of a region of a real frame (the bundled sample's frame 12, 24^3 voxels around its
 // centre) and of the same region upsampled 3x per axis (trilinearly here: a smooth field, as
 // tests/tools/upsample_frame.cpp makes with a quadratic filter), against every cube integrated with
-// 4 x 4 x 4 Gauss points here. Cubes whose temperatures span at most half of dT take 2 x 2 x 2
-// points, and up to 1.5 dT 3 x 3 x 3, whose errors the derivations in scatter_cells.cpp bound by
-// about 1e-4 of a cube's integral: the tolerance on each cell's mass. The upsampled region must take the cheap rule for
-// most cubes, or the fast path would go untested.
+// 4 x 4 x 4 Gauss points here. Each axis of a cube takes 2 points where its temperatures change by
+// at most 0.85 dT along it, 3 up to 2.4 dT, whose errors the derivations in scatter_cells.cpp bound
+// by about 3e-4 of a cube's integral; a cell's mass (many cubes, most of them inside the smoke)
+// must stay within 1e-4 of it. The upsampled region must take the cheap rule for most cubes, or the
+// fast path would go untested.
 render::Medium sampleRegion(int factor) {
     const vdb::VdbSequence sequence = vdb::VdbSequence::open(FIRELOOK_SAMPLE_DIR);
     const render::Medium frame = reference::mediumFromFrame(sequence.load(12));
@@ -161,7 +162,7 @@ TEST(ScatterCells, SmoothCubesTakeFewerPointsAtTheSameMass) {
         if (factor == 3) {
             EXPECT_GT(smooth_share, 0.5);
         } else {
-            EXPECT_GT(varied_share, 0.2) << "the real frame's cubes must test the 3-point rule";
+            EXPECT_GT(varied_share, 0.05) << "the real frame's cubes must test the 3-point rule";
         }
     }
 }
