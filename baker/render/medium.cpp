@@ -1,5 +1,7 @@
 #include "render/medium.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
@@ -52,19 +54,28 @@ Medium::Medium(glm::ivec3 origin, glm::ivec3 dims, std::span<const float> densit
         return;
     }
     voxels_.resize(count);
-    for (std::size_t n = 0; n < count; ++n) {
-        float rho = density[n];
-        float t = temperature[n];
-        if (!std::isfinite(rho) || rho < 0.0f) {
-            rho = 0.0f;
-            ++sanitized_values_;
+    // Slice by slice on every core (a frame upsampled 4x has 33 million voxels: 0.4 s on one); each
+    // slice counts what it cleaned, summed after in slice order.
+    std::vector<std::uint64_t> sanitized(static_cast<std::size_t>(dims.z), 0);
+    const std::size_t slice = static_cast<std::size_t>(dims.x) * static_cast<std::size_t>(dims.y);
+    tbb::parallel_for(0, dims.z, [&](int z) {
+        std::uint64_t cleaned = 0;
+        for (std::size_t n = z * slice; n < (z + 1) * slice; ++n) {
+            float rho = density[n];
+            float t = temperature[n];
+            if (!std::isfinite(rho) || rho < 0.0f) {
+                rho = 0.0f;
+                ++cleaned;
+            }
+            if (!std::isfinite(t)) {
+                t = background_temperature_;
+                ++cleaned;
+            }
+            voxels_[n] = glm::vec2(std::min(rho, kLargestValue), std::clamp(t, -kLargestValue, kLargestValue));
         }
-        if (!std::isfinite(t)) {
-            t = background_temperature_;
-            ++sanitized_values_;
-        }
-        voxels_[n] = glm::vec2(std::min(rho, kLargestValue), std::clamp(t, -kLargestValue, kLargestValue));
-    }
+        sanitized[static_cast<std::size_t>(z)] = cleaned;
+    });
+    for (std::uint64_t cleaned : sanitized) sanitized_values_ += cleaned;
     buildBricks();
 }
 
@@ -178,7 +189,8 @@ void Medium::buildBricks() {
     bricks_.assign(static_cast<std::size_t>(brick_counts_.x) * static_cast<std::size_t>(brick_counts_.y) *
                        static_cast<std::size_t>(brick_counts_.z),
                    BrickRange{});
-    for (int bz = 0; bz < brick_counts_.z; ++bz)
+    // Each brick is written once: layers of bricks on every core.
+    tbb::parallel_for(0, brick_counts_.z, [&](int bz) {
         for (int by = 0; by < brick_counts_.y; ++by)
             for (int bx = 0; bx < brick_counts_.x; ++bx) {
                 // Relative voxel indices -1 + b * size ... -1 + (b + 1) * size, both ends included:
@@ -200,6 +212,7 @@ void Medium::buildBricks() {
                             (static_cast<std::size_t>(by) + static_cast<std::size_t>(brick_counts_.y) *
                                                                 static_cast<std::size_t>(bz))] = range;
             }
+    });
 }
 
 }  // namespace firelook::render
