@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 #include <numeric>
+#include <optional>
 
 #include "render/random.h"
 
@@ -147,82 +148,123 @@ CameraQuadrature chooseCameraQuadrature(const CameraQuadratureInputs& in, const 
     out.rays_per_axis = options.rays_given ? options.rays.front() : n;
 
     // 1. The step: all n x n rays at each coarser step against the smallest, radiance and alpha, on
-    //    every stepCheckStride()-th pixel of every such row.
+    //    every stepCheckStride()-th pixel of every such row. The smallest step's rays first, kept per
+    //    pixel (radiance, depths and source sums: at most 1/64 of the basis matrix's bytes), then the
+    //    coarser steps from the coarsest, until the choice below can no longer change: it takes the
+    //    coarsest step within each criterion, so once alpha's is found and the radiance rays' among
+    //    the steps up to kRadianceStepOverDepthStep times it, the finer ones are not marched (frame
+    //    12 upsampled 4x takes 4 times the smallest step: twice it, half the coarser steps' marching,
+    //    is left out).
     const std::size_t S = options.step_scales.size();
     double step_error = 0.0;
     if (S > 0) {
         const int stride = stepCheckStride(width, height);
-        std::vector<std::vector<double>> diff2(S, std::vector<double>(height, 0.0)),
-            value2(S, std::vector<double>(height, 0.0)), alpha(S, std::vector<double>(height, 0.0));
-        std::vector<int> seen(height, 0);  // checked pixels a ray of which crossed density, per row
-        // Per row, the checked pixels' source sums (addSourceSums) at the smallest step, and each
-        // coarser step's change of them.
+        const int columns_checked = (width - stride / 2 + stride - 1) / stride;
         const std::size_t sources = static_cast<std::size_t>(tb.points) * (1 + tb.columns - tb.bins);
+        struct FinePixel {
+            std::vector<float> radiance;  // the pixel's rows, GC floats (empty where no ray met density)
+            std::vector<double> b, a, sums;  // its rays' depths (gatherRays) and source sums (addSourceSums)
+        };
+        std::vector<std::vector<FinePixel>> fine(height);
+        std::vector<int> seen(height, 0);  // checked pixels a ray of which crossed density, per row
         std::vector<std::vector<double>> fine_sums(height);
-        std::vector<std::vector<std::vector<double>>> change_sums(S, std::vector<std::vector<double>>(height));
+        const auto checkedRow = [&](int py) { return py % stride == stride / 2; };
         tbb::parallel_for(0, height, [&](int py) {
-            if (py % stride != stride / 2 || stop.load(std::memory_order_relaxed)) return;
-            std::vector<std::unique_ptr<CameraMarch>> marches;  // [0] the smallest step, [1 + t] step_scales[t]
-            marches.push_back(cameraMarch(in, 1));
-            for (int scale : options.step_scales) marches.push_back(cameraMarch(in, scale));
-            std::vector<float> fine(GC), coarse(GC);
-            std::vector<double> b0(rays), a0(rays * tb.n_alpha), b1(rays), a1(rays * tb.n_alpha);
-            std::vector<double> pixel_fine(sources), pixel_coarse(sources);
+            if (!checkedRow(py) || stop.load(std::memory_order_relaxed)) return;
+            const std::unique_ptr<CameraMarch> march = cameraMarch(in, 1);
+            fine[py].resize(columns_checked);
             fine_sums[py].assign(sources, 0.0);
-            for (std::size_t t = 0; t < S; ++t) change_sums[t][py].assign(sources, 0.0);
-            for (int px = stride / 2; px < width; px += stride) {
-                fine.assign(GC, 0.0f);
-                marches[0]->beginPixel();
-                gatherRays(*marches[0], in.lbar_sum, width, px, py, n, fine.data(), tb.n_alpha, b0.data(),
-                           a0.data());
-                if (!std::any_of(b0.begin(), b0.end(), [](double d) { return d > 0.0; })) continue;
-                ++seen[py];
-                std::fill(pixel_fine.begin(), pixel_fine.end(), 0.0);
-                addSourceSums(fine.data(), tb.points, tb.columns, tb.bins, pixel_fine.data());
-                for (std::size_t k = 0; k < sources; ++k) fine_sums[py][k] += pixel_fine[k];
-                for (std::size_t t = 0; t < S; ++t) {
-                    coarse.assign(GC, 0.0f);
-                    marches[1 + t]->beginPixel();
-                    gatherRays(*marches[1 + t], in.lbar_sum, width, px, py, n, coarse.data(), tb.n_alpha,
-                               b1.data(), a1.data());
-                    quadratureCheck(coarse.data(), fine.data(), tb.points, tb.columns, tb.bins, diff2[t][py],
-                                    value2[t][py]);
-                    std::fill(pixel_coarse.begin(), pixel_coarse.end(), 0.0);
-                    addSourceSums(coarse.data(), tb.points, tb.columns, tb.bins, pixel_coarse.data());
-                    std::vector<double>& change = change_sums[t][py];
-                    for (std::size_t k = 0; k < sources; ++k) change[k] += pixel_coarse[k] - pixel_fine[k];
-                    alpha[t][py] = std::max(alpha[t][py], worstAlphaChange(tb, n * n, b0.data(), a0.data(),
-                                                                           b1.data(), a1.data()));
+            for (int c = 0; c < columns_checked; ++c) {
+                FinePixel& pixel = fine[py][c];
+                pixel.radiance.assign(GC, 0.0f);
+                pixel.b.resize(rays);
+                pixel.a.resize(rays * tb.n_alpha);
+                march->beginPixel();
+                gatherRays(*march, in.lbar_sum, width, stride / 2 + c * stride, py, n, pixel.radiance.data(),
+                           tb.n_alpha, pixel.b.data(), pixel.a.data());
+                if (!std::any_of(pixel.b.begin(), pixel.b.end(), [](double d) { return d > 0.0; })) {
+                    pixel = FinePixel{};
+                    continue;
                 }
+                ++seen[py];
+                pixel.sums.assign(sources, 0.0);
+                addSourceSums(pixel.radiance.data(), tb.points, tb.columns, tb.bins, pixel.sums.data());
+                for (std::size_t k = 0; k < sources; ++k) fine_sums[py][k] += pixel.sums[k];
             }
         });
-        // Too few pixels with density to judge the step by: the smallest.
+        // Too few pixels with density to judge the step by: the smallest (every step is measured, for
+        // the report).
         const bool judged = std::accumulate(seen.begin(), seen.end(), 0) >= kMinStepCheckPixels;
         double fine_sum = 0.0;
         for (double v : rowTotals(fine_sums, sources)) fine_sum += std::fabs(v);
-        for (std::size_t t = 0; t < S; ++t) {
-            const double error = relativeFrobeniusError(diff2[t], value2[t]);
-            const double alpha_error = *std::max_element(alpha[t].begin(), alpha[t].end());
+        // Step t against the smallest on every checked pixel with density.
+        const auto measure = [&](std::size_t t) {
+            std::vector<double> diff2(height, 0.0), value2(height, 0.0), alpha(height, 0.0);
+            std::vector<std::vector<double>> change_sums(height);
+            tbb::parallel_for(0, height, [&](int py) {
+                if (!checkedRow(py) || stop.load(std::memory_order_relaxed)) return;
+                const std::unique_ptr<CameraMarch> march = cameraMarch(in, options.step_scales[t]);
+                std::vector<float> coarse(GC);
+                std::vector<double> b1(rays), a1(rays * tb.n_alpha), pixel_coarse(sources);
+                change_sums[py].assign(sources, 0.0);
+                for (int c = 0; c < columns_checked; ++c) {
+                    const FinePixel& pixel = fine[py][c];
+                    if (pixel.radiance.empty()) continue;
+                    coarse.assign(GC, 0.0f);
+                    march->beginPixel();
+                    gatherRays(*march, in.lbar_sum, width, stride / 2 + c * stride, py, n, coarse.data(),
+                               tb.n_alpha, b1.data(), a1.data());
+                    quadratureCheck(coarse.data(), pixel.radiance.data(), tb.points, tb.columns, tb.bins, diff2[py],
+                                    value2[py]);
+                    std::fill(pixel_coarse.begin(), pixel_coarse.end(), 0.0);
+                    addSourceSums(coarse.data(), tb.points, tb.columns, tb.bins, pixel_coarse.data());
+                    for (std::size_t k = 0; k < sources; ++k) change_sums[py][k] += pixel_coarse[k] - pixel.sums[k];
+                    alpha[py] = std::max(alpha[py], worstAlphaChange(tb, n * n, pixel.b.data(), pixel.a.data(),
+                                                                     b1.data(), a1.data()));
+                }
+            });
             double moved = 0.0;
-            for (double v : rowTotals(change_sums[t], sources)) moved += std::fabs(v);
-            const double mean_change = fine_sum > 0.0 ? moved / fine_sum : 0.0;
-            out.candidates.push_back({n, options.step_scales[t], error, mean_change, alpha_error});
-            if (!judged) continue;
-            // The depth-only rays' step by what it moves of alpha.
-            if (alpha_error <= options.alpha_allowance) out.depth_step_scale = options.step_scales[t];
+            for (double v : rowTotals(change_sums, sources)) moved += std::fabs(v);
+            return QuadratureCandidate{n, options.step_scales[t], relativeFrobeniusError(diff2, value2),
+                                       fine_sum > 0.0 ? moved / fine_sum : 0.0,
+                                       *std::max_element(alpha.begin(), alpha.end())};
+        };
+        const auto alphaWithin = [&](const QuadratureCandidate& c) { return c.alpha_error <= options.alpha_allowance; };
+        const auto radianceWithin = [&](const QuadratureCandidate& c) {
+            return c.radiance_error <= options.step_allowance && c.mean_change <= options.mean_change_allowance;
+        };
+        // Measured from the coarsest; [t] is set once step t is.
+        std::vector<std::optional<QuadratureCandidate>> measured(S);
+        for (std::size_t t = S; t-- > 0;) {
+            measured[t] = measure(t);
+            if (!judged || stop.load()) continue;
+            // Alpha's step is the coarsest within its allowance, and every coarser one is measured.
+            std::optional<std::size_t> depth;
+            for (std::size_t u = S; u-- > t && !depth;)
+                if (alphaWithin(*measured[u])) depth = u;
+            if (!depth) continue;
+            bool radiance = false;
+            for (std::size_t u = S; u-- > t && !radiance;)
+                radiance = measured[u]->step_scale <= kRadianceStepOverDepthStep * options.step_scales[*depth] &&
+                           radianceWithin(*measured[u]);
+            if (radiance) break;
         }
-        // The radiance rays' by what it moves of radiance, up to kRadianceStepOverDepthStep times
-        // alpha's (camera_quadrature.h): finer where radiance moves more than alpha, never coarser.
-        // Free of alpha's, the bundled sample's frame 7 at 128x128 measured 0.085% at 4 times the
-        // step where alpha moved 0.019, and its looks' error against the references rose from
-        // 0.10-0.24% to 0.26-0.49% with its radiance rays there (alpha's at the smallest step).
-        for (std::size_t t = 0; t < S; ++t) {
-            const QuadratureCandidate& c = out.candidates[t];
-            if (judged && c.step_scale <= kRadianceStepOverDepthStep * out.depth_step_scale &&
-                c.radiance_error <= options.step_allowance && c.mean_change <= options.mean_change_allowance) {
-                out.step_scale = c.step_scale;
-                step_error = c.radiance_error;
-            }
+        for (const std::optional<QuadratureCandidate>& c : measured)
+            if (c) out.candidates.push_back(*c);
+        // The depth-only rays' step by what it moves of alpha; the radiance rays' by what it moves of
+        // radiance, up to kRadianceStepOverDepthStep times alpha's (camera_quadrature.h): finer where
+        // radiance moves more than alpha, never coarser. Free of alpha's, the bundled sample's frame 7
+        // at 128x128 measured 0.085% at 4 times the step where alpha moved 0.019, and its looks'
+        // error against the references rose from 0.10-0.24% to 0.26-0.49% with its radiance rays
+        // there (alpha's at the smallest step).
+        if (judged) {
+            for (const QuadratureCandidate& c : out.candidates)
+                if (alphaWithin(c)) out.depth_step_scale = c.step_scale;
+            for (const QuadratureCandidate& c : out.candidates)
+                if (c.step_scale <= kRadianceStepOverDepthStep * out.depth_step_scale && radianceWithin(c)) {
+                    out.step_scale = c.step_scale;
+                    step_error = c.radiance_error;
+                }
         }
     }
 

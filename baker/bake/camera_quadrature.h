@@ -64,14 +64,17 @@ struct CameraQuadrature {
     // The chosen one's error against all n x n rays at the smallest step: the step's and the rays'
     // (at that step) in quadrature; 0 for all n x n rays at the smallest step.
     double radiance_error = 0.0;
-    // Every one measured: all n x n rays at each coarser step (against the smallest step, with alpha),
-    // then each m at the step taken (against all n x n at that step; alpha_error 0: alpha is
-    // always from the n x n rays).
+    // Every one measured: all n x n rays at the coarser steps marched (against the smallest step,
+    // with alpha; ascending, from the coarsest down to where the choice was settled), then each m at
+    // the step taken (against all n x n at that step; alpha_error 0: alpha is always from the n x n
+    // rays).
     std::vector<QuadratureCandidate> candidates;
 };
 
-// 1. The steps: on every stepCheckStride()-th pixel of every such row, all n x n rays at each
-//    coarser step against the smallest. Alpha's depth-only rays take the coarsest whose
+// 1. The steps: on every stepCheckStride()-th pixel of every such row, all n x n rays at the
+//    coarser steps against the smallest, from the coarsest down until the choice is settled (a
+//    finer step cannot change it: each takes the coarsest within its criteria, and finer steps are
+//    measured only while one is not found). Alpha's depth-only rays take the coarsest whose
 //    alpha_error is within its allowance; the radiance rays the coarsest whose radiance_error and
 //    mean_change are, up to kRadianceStepOverDepthStep times alpha's (so never coarser, and finer
 //    where radiance moves more than alpha); both provided at least

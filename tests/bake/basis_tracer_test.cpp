@@ -420,21 +420,38 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
 
     const render::Medium smooth = blobMedium(false), rough = blobMedium(true);
     const FrameBasis smooth_bake = trace(smooth, 4), rough_bake = trace(rough, 4);
-    for (const FrameBasis* b : {&smooth_bake, &rough_bake}) {
-        ASSERT_EQ(b->quadrature_candidates.size(), 3u) << "steps 2 and 4, then m = 2 at the step taken";
-        EXPECT_EQ(b->quadrature_candidates[0].step_scale, 2);
-        EXPECT_EQ(b->quadrature_candidates[1].step_scale, 4);
-        EXPECT_EQ(b->quadrature_candidates[0].rays_per_axis, 4);
-        EXPECT_EQ(b->quadrature_candidates[2].rays_per_axis, 2);
+    // Twice the step measured alone (max_step_scale 2): the same check pixels and marches.
+    const FrameBasis smooth_twice = trace(smooth, 2);
+    for (const FrameBasis* b : {&smooth_bake, &rough_bake, &smooth_twice}) {
         EXPECT_EQ(b->radiance_quadrature_allowance, allowance);
         EXPECT_LE(b->radiance_quadrature_error, allowance);
         for (const QuadratureCandidate& c : b->quadrature_candidates)
             std::printf("[measured] %s: %dx%d rays, step x%d: radiance %.3e, mean %.3e, alpha %.3e\n",
-                        b == &smooth_bake ? "smooth" : "rough", c.rays_per_axis, c.rays_per_axis, c.step_scale,
+                        b == &rough_bake ? "rough" : "smooth", c.rays_per_axis, c.rays_per_axis, c.step_scale,
                         c.radiance_error, c.mean_change, c.alpha_error);
-        // Each step is the coarsest its own criteria allow, the radiance rays' never coarser than
-        // alpha's (kRadianceStepOverDepthStep).
-        const QuadratureCandidate &twice = b->quadrature_candidates[0], &four = b->quadrature_candidates[1];
+    }
+    // The steps are measured from the coarsest, and a finer one only while the choice could still
+    // change: the smooth blob takes 4 times for both, so twice is not marched; the rough one moves
+    // alpha too much at 4 times and measures twice as well. Then m = 2 at the step taken.
+    ASSERT_EQ(smooth_bake.quadrature_candidates.size(), 2u);
+    ASSERT_EQ(rough_bake.quadrature_candidates.size(), 3u);
+    ASSERT_EQ(smooth_twice.quadrature_candidates.size(), 2u);
+    EXPECT_EQ(smooth_bake.quadrature_candidates[0].step_scale, 4);
+    EXPECT_EQ(smooth_twice.quadrature_candidates[0].step_scale, 2);
+    EXPECT_EQ(rough_bake.quadrature_candidates[0].step_scale, 2);
+    EXPECT_EQ(rough_bake.quadrature_candidates[1].step_scale, 4);
+    for (const FrameBasis* b : {&smooth_bake, &rough_bake, &smooth_twice}) {
+        EXPECT_EQ(b->quadrature_candidates.front().rays_per_axis, 4);
+        EXPECT_EQ(b->quadrature_candidates.back().rays_per_axis, 2);
+    }
+    const QuadratureCandidate& smooth_twice_c = smooth_twice.quadrature_candidates[0];
+    const QuadratureCandidate& smooth_four = smooth_bake.quadrature_candidates[0];
+    // Each step is the coarsest its own criteria allow, the radiance rays' never coarser than
+    // alpha's (kRadianceStepOverDepthStep).
+    for (const FrameBasis* b : {&smooth_bake, &rough_bake}) {
+        const bool smooth_one = b == &smooth_bake;
+        const QuadratureCandidate& twice = smooth_one ? smooth_twice_c : b->quadrature_candidates[0];
+        const QuadratureCandidate& four = smooth_one ? smooth_four : b->quadrature_candidates[1];
         const double step = TraceSettings{}.step_voxels;
         const int depth_scale = alphaWithin(four) ? 4 : alphaWithin(twice) ? 2 : 1;
         EXPECT_EQ(b->depth_step_voxels, step * depth_scale);
@@ -443,10 +460,10 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
                                                                                              : 1));
     }
     // The smooth blob: the coarsest step for both.
-    ASSERT_TRUE(radianceWithin(smooth_bake.quadrature_candidates[1]) && alphaWithin(smooth_bake.quadrature_candidates[1]));
+    ASSERT_TRUE(radianceWithin(smooth_four) && alphaWithin(smooth_four));
     EXPECT_EQ(smooth_bake.camera_step_voxels, 4 * TraceSettings{}.step_voxels);
     EXPECT_EQ(smooth_bake.depth_step_voxels, 4 * TraceSettings{}.step_voxels);
-    EXPECT_GT(smooth_bake.quadrature_candidates[1].radiance_error, 0.0) << "a different march, measured";
+    EXPECT_GT(smooth_four.radiance_error, 0.0) << "a different march, measured";
     // The rough one: 4 times the step moves alpha and the radiance too much, twice does not.
     EXPECT_FALSE(alphaWithin(rough_bake.quadrature_candidates[1]));
     ASSERT_TRUE(alphaWithin(rough_bake.quadrature_candidates[0]));
@@ -460,7 +477,7 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
     // the bake's that never measured a step, bit for bit (its light steps held to the same target
     // are the finest as well).
     const FrameBasis smooth_split =
-        trace(smooth, 4, 0.001, 5e-4, 0.5 * smooth_bake.quadrature_candidates[0].radiance_error);
+        trace(smooth, 4, 0.001, 5e-4, 0.5 * smooth_twice_c.radiance_error);
     const FrameBasis smooth_fixed = trace(smooth, 1);
     EXPECT_EQ(smooth_split.depth_step_voxels, 4 * TraceSettings{}.step_voxels);
     EXPECT_EQ(smooth_split.camera_step_voxels, TraceSettings{}.step_voxels);
@@ -468,7 +485,7 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
     EXPECT_TRUE(smooth_split.matrix == smooth_fixed.matrix);
     // Allowed a tenth of twice the step's alpha change, alpha's rays keep step_voxels, and so do
     // the radiance rays, whose own criteria allow 4 times: never coarser than alpha's.
-    const FrameBasis smooth_tight = trace(smooth, 4, 0.1 * smooth_bake.quadrature_candidates[0].alpha_error);
+    const FrameBasis smooth_tight = trace(smooth, 4, 0.1 * smooth_twice_c.alpha_error);
     EXPECT_EQ(smooth_tight.depth_step_voxels, TraceSettings{}.step_voxels);
     EXPECT_EQ(smooth_tight.camera_step_voxels, TraceSettings{}.step_voxels);
     // Allowed a tenth of the alpha change and of the mean changes at twice the step (the camera's
@@ -509,8 +526,8 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
     EXPECT_LT(image_error, 2.0 * allowance);
     // The mean change guards the radiance step on its own: allowed half of what 4 times the step
     // moved the smooth blob's sums, it takes twice the step (which moved them less).
-    const double half = 0.5 * smooth_bake.quadrature_candidates[1].mean_change;
-    ASSERT_LT(smooth_bake.quadrature_candidates[0].mean_change, half);
+    const double half = 0.5 * smooth_four.mean_change;
+    ASSERT_LT(smooth_twice_c.mean_change, half);
     EXPECT_EQ(trace(smooth, 4, 0.001, half).camera_step_voxels, 2 * TraceSettings{}.step_voxels);
     // The step's radiance change is held to step_radiance_target, not to the share of the photon
     // noise the radiance rays may take (a midpoint error can be a bias, photon noise not): with
@@ -520,9 +537,9 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
         TraceSettings t = fastTrace(3);
         t.footprint_samples_per_axis = 4;
         t.max_step_scale = 4;
-        t.radiance_quadrature_target = 0.5 * smooth_bake.quadrature_candidates[1].radiance_error;
+        t.radiance_quadrature_target = 0.5 * smooth_four.radiance_error;
         t.step_radiance_target = t.radiance_quadrature_target;
-        ASSERT_LT(smooth_bake.quadrature_candidates[0].radiance_error, t.radiance_quadrature_target);
+        ASSERT_LT(smooth_twice_c.radiance_error, t.radiance_quadrature_target);
         const FrameBasis probe = traceFrameBasis(smooth, camera, model, t);
         t.radiance_quadrature_noise_share = 100.0 * t.radiance_quadrature_target / probe.predicted_photon_noise;
         const FrameBasis held = traceFrameBasis(smooth, camera, model, t);
