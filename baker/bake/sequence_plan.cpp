@@ -26,11 +26,13 @@ std::string hex16(XXH64_hash_t hash) {
 }
 
 // Adds one loaded frame to the survey.
-void surveyFrame(const vdb::VolumeFrame& frame, SequenceSurvey& survey, TemperatureSpan& span) {
+void surveyFrame(const vdb::VolumeFrame& frame, SequenceSurvey& survey, TemperatureSpan& span,
+                 LoadedFrame* keep = nullptr) {
     span.add(frame);
-    const render::Medium medium = reference::mediumFromFrame(frame);
-    survey.temperatures.merge(densityTemperatureRange(medium));
-    survey.density.merge(densityDepth(medium));
+    LoadedFrame loaded = loadFrame(frame);
+    survey.temperatures.merge(densityTemperatureRange(loaded.medium));
+    survey.density.merge(densityDepth(loaded.medium));
+    if (keep) *keep = std::move(loaded);
 }
 
 ordered_json vec3Json(const glm::dvec3& v) { return ordered_json::array({v.x, v.y, v.z}); }
@@ -77,8 +79,20 @@ SequenceSurvey surveySequence(const vdb::VdbSequence& sequence,
     return survey;
 }
 
+LoadedFrame loadFrame(const vdb::VolumeFrame& frame) {
+    LoadedFrame loaded;
+    loaded.number = frame.number;
+    loaded.file = frame.file.filename().string();
+    loaded.cleaned_non_finite = frame.cleaned_non_finite;
+    loaded.cleaned_negative_density = frame.cleaned_negative_density;
+    loaded.clamped_extreme = frame.density_cleaned.clamped + frame.temperature_cleaned.clamped;
+    loaded.active_voxels = frame.density_stats.active_voxels;
+    loaded.medium = reference::mediumFromFrame(frame);
+    return loaded;
+}
+
 SequencePlan planSequence(const vdb::VdbSequence& sequence,
-                          const std::function<bool(int frame)>& keep_going) {
+                          const std::function<bool(int frame)>& keep_going, int keep, LoadedFrame* kept) {
     SequencePlan plan;
     plan.read = sequence.options();
     plan.world_bounds = sequence.sequenceWorldBounds();
@@ -88,7 +102,7 @@ SequencePlan planSequence(const vdb::VdbSequence& sequence,
         if (keep_going && !keep_going(f.number)) throw Error(ErrorCode::Cancelled, "cancelled");
         plan.frames.push_back({f.number, f.path.filename().string(), fileXxh3(f.path)});
         identity += std::to_string(f.number) + " " + plan.frames.back().xxh3_64 + "\n";
-        surveyFrame(sequence.load(f.number), plan.survey, span);
+        surveyFrame(sequence.load(f.number), plan.survey, span, kept && f.number == keep ? kept : nullptr);
     }
     plan.survey.temperature_range = span.range();
     plan.sequence_xxh3_64 = xxh3Hex(identity);

@@ -6,6 +6,7 @@
 // (docs/cli.md, "Shards, merge and resume").
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -14,6 +15,7 @@
 
 #include "bake/axis_collapse.h"
 #include "bake/axis_derivation.h"
+#include "render/medium.h"
 #include "vdb/vdb_sequence.h"
 
 namespace firelook::bake {
@@ -55,9 +57,22 @@ struct SequencePlan {
 std::string xxh3Hex(const std::string& text);
 std::string fileXxh3(const std::filesystem::path& file);
 
-// Reads every frame once: its hash, and the survey. keep_going(frame) false cancels (throws).
+// A frame's medium as a bake traces it and what the package records of its read (META's
+// "source"), from one read of its file.
+struct LoadedFrame {
+    int number = -1;  // -1: none
+    std::string file;  // the file's name
+    std::uint64_t cleaned_non_finite = 0, cleaned_negative_density = 0, clamped_extreme = 0, active_voxels = 0;
+    render::Medium medium;
+};
+LoadedFrame loadFrame(const vdb::VolumeFrame& frame);
+
+// Reads every frame once: its hash, and the survey. keep_going(frame) false cancels (throws). With
+// `kept`, the frame numbered `keep` is kept as it was read there (a bake's first frame to trace:
+// its file is then not read and made dense a second time, about 0.8 s of a 33-million-voxel frame).
 SequencePlan planSequence(const vdb::VdbSequence& sequence,
-                          const std::function<bool(int frame)>& keep_going = {});
+                          const std::function<bool(int frame)>& keep_going = {}, int keep = -1,
+                          LoadedFrame* kept = nullptr);
 
 // The plan file: JSON with every number written to round-trip exactly, so a bake from the file
 // writes the bytes of a bake that surveyed the sequence itself. `sequence_path` is recorded as

@@ -107,6 +107,39 @@ TEST(SequencePlan, OpeningWithAPlanReadsOnlyTheFramesLoaded) {
         << "without the grid names";
 }
 
+// The frame a bake traces first is kept from the plan's pass (LoadedFrame), as a load of its own
+// would give it: the same medium voxel for voxel and the same record of the read. (A bake from a
+// plan loads every frame itself; tests/cli/shard_plan_test.cpp merges such shards into the bytes
+// of one bake without a plan.)
+TEST(SequencePlan, KeepsTheFrameAskedForAsItsOwnLoadGivesIt) {
+    const vdb::VdbSequence sequence = vdb::VdbSequence::open(FIRELOOK_SAMPLE_DIR);
+    const int keep = sequence.frames()[1].number;
+    LoadedFrame kept;
+    const SequencePlan plan = planSequence(sequence, {}, keep, &kept);
+    EXPECT_EQ(plan.frames.size(), sequence.frames().size());
+    ASSERT_EQ(kept.number, keep);
+    const LoadedFrame own = loadFrame(sequence.load(keep));
+    EXPECT_EQ(kept.file, own.file);
+    EXPECT_EQ(kept.active_voxels, own.active_voxels);
+    EXPECT_GT(kept.active_voxels, 0u);
+    EXPECT_EQ(kept.cleaned_non_finite, own.cleaned_non_finite);
+    EXPECT_EQ(kept.clamped_extreme, own.clamped_extreme);
+    ASSERT_EQ(kept.medium.dims(), own.medium.dims());
+    EXPECT_EQ(kept.medium.origin(), own.medium.origin());
+    const glm::ivec3 d = own.medium.dims();
+    std::size_t differing = 0;
+    for (int z = 0; z < d.z; ++z)
+        for (int y = 0; y < d.y; ++y)
+            for (int x = 0; x < d.x; ++x) {
+                const render::MediumSample a = kept.medium.voxel({x, y, z}), b = own.medium.voxel({x, y, z});
+                differing += a.density != b.density || a.temperature != b.temperature;
+            }
+    EXPECT_EQ(differing, 0u);
+    LoadedFrame none;
+    planSequence(sequence, {}, -1, &none);
+    EXPECT_EQ(none.number, -1) << "no frame asked for, none kept";
+}
+
 TEST(SequencePlan, RefusesWhatIsNotAPlanOfThisVersion) {
     const auto message = [](const std::string& text) {
         try {
