@@ -360,7 +360,7 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
             return !progress || progress((double(n) + 0.9 * f) / frames.size(), detail);
         };
         if (!frame_progress(0.0)) throw Error(ErrorCode::Cancelled, "cancelled");
-        if (first_frame.number != frame_number) first_frame = LoadedFrame{};  // resumed: not needed
+        if (first_frame.number != frame_number) first_frame = LoadedFrame{};  // used, or resumed: released
         parts.push_back(checkpoint.partPath(frame_number));
         // Every frame is hashed as it is baked and must be the file the plan hashed: a frame changed
         // since then would mix two sequences in one package.
@@ -390,7 +390,6 @@ BakeReport bakePackage(const std::string& sequence_path, const std::filesystem::
         // The frame's grids are released once the medium holds its voxels.
         const LoadedFrame loaded =
             first_frame.number == frame_number ? std::move(first_frame) : loadFrame(sequence.load(frame_number));
-        first_frame = LoadedFrame{};
         entries.source = {{"frame", frame_number},
                           {"file", loaded.file},
                           {"xxh3_64", source_hash},
