@@ -115,7 +115,7 @@ std::vector<int> radianceCandidates(const TraceSettings& settings, int footprint
     std::vector<int> candidates;
     if (settings.radiance_samples_per_axis > 0 || !(settings.radiance_quadrature_target > 0.0))
         return candidates;
-    for (int m = 2; 2 * m * m <= footprint_per_axis * footprint_per_axis; ++m) candidates.push_back(m);
+    for (int m = 1; 2 * m * m <= footprint_per_axis * footprint_per_axis; ++m) candidates.push_back(m);
     return candidates;
 }
 

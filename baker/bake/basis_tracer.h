@@ -88,16 +88,18 @@ struct TraceSettings {
     // cells are at least this many pixel footprints wide (at the influence box's corner nearest the
     // camera, pixelFootprintVoxels()), as long as min_cells_across of them still span the box's
     // longest axis; before the optical-depth rule above, which may make them finer again. 0: off.
-    // 3.5 and 32 because that is how coarse the cells are that the accuracy suite measured within
-    // issue 27's bars: the bundled sample's frames at 128x128 have 2-voxel cells of 3.2-3.5 footprints
-    // (0.58-0.64 voxel a pixel), 25-37 of them across (frame 3's bias above came with 15). So neither
-    // the sample nor samples/data/smoke changes at any size, and a frame whose voxels are finer than
-    // its pixels gets cells of that world size: frame 12 upsampled 4x at 128x128 (2.3 voxels a
-    // pixel) 8-voxel cells, 36 across, the sample's own world size, instead of 6-voxel ones (48,
-    // max_cells_per_axis): photon passes 7.4 s against 20.1 s (2 photon chains against 4; the
-    // predicted photon noise 0.89% against 0.70%), noise-corrected error of 3 looks against a
-    // 272-spp judge 0.56% / 0.60% (median / worst) against 0.51% / 0.60%.
-    double cell_pixel_footprints = 3.5;
+    // What a cell smooths is a world-size field (the scattered light), whose error in the image
+    // does not shrink with the pixels once they resolve the cells: the bundled sample's frames have
+    // 2-voxel cells, 25-37 across, at every size, 3.2-3.5 footprints at 128x128 (the accuracy suite)
+    // and 6.4-7 at 256x256 (scripts/bench/bake_vs_reference.sh: 0.32% on frame 12). 7 and 32 keep
+    // the sample and samples/data/smoke as they are at every size and give a frame whose voxels are
+    // finer than its pixels cells of that world size: frame 12 upsampled 4x gets 8-voxel cells, 36
+    // across, at 128x128 (2.3 voxels a pixel) and at 256x256 (1.15), where 3.5 gave 6-voxel ones at
+    // 256x256 (48, max_cells_per_axis): photon passes 14.3 s against about 7 s. At 128x128 with
+    // 3.5, 8-voxel cells against 6-voxel ones measured photon passes 7.4 s against 20.1 s (2 photon
+    // chains against 4; the predicted photon noise 0.89% against 0.70%), noise-corrected error of 3
+    // looks against a 272-spp judge 0.56% / 0.60% (median / worst) against 0.51% / 0.60%.
+    double cell_pixel_footprints = 7.0;
     int min_cells_across = 32;
     // At most this many light-depth lattice points along any axis (shadow resolution of the
     // single-scattered light): 128 keeps the sample at one point per voxel.
@@ -182,7 +184,11 @@ struct TraceSettings {
     // before its camera pass, on every 16th pixel (the check of FrameBasis::radiance_quadrature_error),
     // for every m that marches at most half the footprint's rays (2 m^2 <= n^2: with fewer rays
     // saved, the depth-only rays that still march make it no faster; 3 of 4 was measured at the
-    // same seconds as 4 of 4), and takes the smallest m whose error is at most this; else m = n. 0:
+    // same seconds as 4 of 4), the pixel's centre ray alone (m = 1) among them, and takes the
+    // smallest m whose error is at most this; else m = n. Where a pixel spans about a voxel or less
+    // one ray is as good as more: frame 12 upsampled 4x at 256x256 (1.15 voxels a pixel) measured
+    // 0.23% with 1 of 3, within the share of its photon noise below, camera rays 4.1 s against 10.4
+    // s with 2 of 3; at 128x128 the accuracy suite's frames measured 0.65-2.5% with 1 of 4. 0:
     // m = n always. 0.0015 because a look's error from it was about the measured error in the
     // median and 3.5 times it in the worst look (the emission regime above: m = 2 on frames 3, 7
     // and 11, whose errors were 0.13-0.40%), so 0.15% keeps the worst look within 0.5 points of the

@@ -83,7 +83,7 @@ inline bool emptyBrickAt(const render::Medium& medium, const BrickRay& ray, doub
         if (ray.direction[a] != 0.0)
             exit = std::min(exit,
                             t + ((ray.direction[a] > 0.0 ? cell[a] + 1.0 : cell[a]) - g[a]) * ray.inverse[a]);
-    return !(medium.brick(b).max_density > 0.0f);
+    return !medium.brickHasDensity(b);
 }
 
 // Marches from t_start to t_end in steps of `step` world units, calling

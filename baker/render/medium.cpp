@@ -189,6 +189,7 @@ void Medium::buildBricks() {
     bricks_.assign(static_cast<std::size_t>(brick_counts_.x) * static_cast<std::size_t>(brick_counts_.y) *
                        static_cast<std::size_t>(brick_counts_.z),
                    BrickRange{});
+    brick_has_density_.assign(bricks_.size(), 0);
     // Each brick is written once: layers of bricks on every core.
     tbb::parallel_for(0, brick_counts_.z, [&](int bz) {
         for (int by = 0; by < brick_counts_.y; ++by)
@@ -207,10 +208,12 @@ void Medium::buildBricks() {
                             range.min_temperature = std::min(range.min_temperature, v.y);
                             range.max_temperature = std::max(range.max_temperature, v.y);
                         }
-                bricks_[static_cast<std::size_t>(bx) +
-                        static_cast<std::size_t>(brick_counts_.x) *
-                            (static_cast<std::size_t>(by) + static_cast<std::size_t>(brick_counts_.y) *
-                                                                static_cast<std::size_t>(bz))] = range;
+                const std::size_t at = static_cast<std::size_t>(bx) +
+                                       static_cast<std::size_t>(brick_counts_.x) *
+                                           (static_cast<std::size_t>(by) + static_cast<std::size_t>(brick_counts_.y) *
+                                                                               static_cast<std::size_t>(bz));
+                bricks_[at] = range;
+                brick_has_density_[at] = range.max_density > 0.0f;
             }
     });
 }

@@ -116,6 +116,15 @@ class Medium {
                            (static_cast<std::size_t>(b.y) +
                             static_cast<std::size_t>(brick_counts_.y) * static_cast<std::size_t>(b.z))];
     }
+    // Whether brick b holds any density (brick(b).max_density > 0), from a byte a brick: the marches
+    // ask it at nearly every step of a photon track, and the ranges (12 bytes a brick, 4 MB on a
+    // frame upsampled 4x) missed the cache where these bytes (350 KB there) mostly do not.
+    bool brickHasDensity(const glm::ivec3& b) const {
+        return brick_has_density_[static_cast<std::size_t>(b.x) +
+                                  static_cast<std::size_t>(brick_counts_.x) *
+                                      (static_cast<std::size_t>(b.y) + static_cast<std::size_t>(brick_counts_.y) *
+                                                                           static_cast<std::size_t>(b.z))] != 0;
+    }
 
   private:
     glm::vec2 voxelOrBackground(int i, int j, int k) const;
@@ -131,6 +140,7 @@ class Medium {
     std::uint64_t sanitized_values_ = 0;
     glm::ivec3 brick_counts_{0};
     std::vector<BrickRange> bricks_;
+    std::vector<std::uint8_t> brick_has_density_;
 };
 
 }  // namespace firelook::render

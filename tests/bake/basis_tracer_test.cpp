@@ -284,18 +284,20 @@ TEST(BasisTracer, RadianceRaysCanBeFewerThanTheFootprintRays) {
 }
 
 // By default the trace chooses m per frame: it measures the quadrature error of every m that marches
-// at most half the footprint's rays on the check pixels first, and takes the smallest within
-// radiance_quadrature_target, or within radiance_quadrature_noise_share of the frame's predicted
-// photon noise where that is more. What it then traces is the bake with that m given, bit for bit.
+// at most half the footprint's rays on the check pixels first (one ray, the pixel's centre, among
+// them), and takes the smallest within radiance_quadrature_target, or within
+// radiance_quadrature_noise_share of the frame's predicted photon noise where that is more. What it
+// then traces is the bake with that m given, bit for bit.
 TEST(BasisTracer, RadianceRaysAreChosenByTheirQuadratureError) {
     TraceSettings settings;
     EXPECT_EQ(settings.radiance_samples_per_axis, 0);
     EXPECT_GT(settings.radiance_quadrature_target, 0.0);
     EXPECT_GT(settings.radiance_quadrature_noise_share, 0.0);
-    EXPECT_EQ(radianceCandidates(settings, 2), std::vector<int>{}) << "1 of 2 would be no footprint at all";
-    EXPECT_EQ(radianceCandidates(settings, 3), std::vector<int>{2});
-    EXPECT_EQ(radianceCandidates(settings, 4), std::vector<int>{2}) << "3 of 4 saves too few rays";
-    EXPECT_EQ(radianceCandidates(settings, 6), (std::vector<int>{2, 3, 4}));
+    EXPECT_EQ(radianceCandidates(settings, 1), std::vector<int>{}) << "one ray is every ray";
+    EXPECT_EQ(radianceCandidates(settings, 2), std::vector<int>{1});
+    EXPECT_EQ(radianceCandidates(settings, 3), (std::vector<int>{1, 2}));
+    EXPECT_EQ(radianceCandidates(settings, 4), (std::vector<int>{1, 2})) << "3 of 4 saves too few rays";
+    EXPECT_EQ(radianceCandidates(settings, 6), (std::vector<int>{1, 2, 3, 4}));
     settings.radiance_samples_per_axis = 2;
     EXPECT_EQ(radianceCandidates(settings, 4), std::vector<int>{}) << "a given m is not chosen";
     settings.radiance_samples_per_axis = 0;
@@ -313,41 +315,56 @@ TEST(BasisTracer, RadianceRaysAreChosenByTheirQuadratureError) {
         t.max_step_scale = 1;  // the rays alone (StepIsChosenByItsQuadratureError)
         return traceFrameBasis(box.medium, box.camera, box.model, t);
     };
-    const FrameBasis given = trace(2, 0.0), every = trace(4, 0.0);
+    const FrameBasis one = trace(1, 0.0), given = trace(2, 0.0), every = trace(4, 0.0);
     ASSERT_GT(given.radiance_quadrature_error, 0.0) << "the case must have a quadrature error";
+    ASSERT_GT(one.radiance_quadrature_error, 1.5 * given.radiance_quadrature_error)
+        << "one ray a pixel must be measurably coarser than 2x2";
+    // Between the two errors.
+    const double between = std::sqrt(one.radiance_quadrature_error * given.radiance_quadrature_error);
 
-    // A target above the 2x2 rays' error: they are taken, with the error the given m measures.
-    const FrameBasis loose = trace(0, 2.0 * given.radiance_quadrature_error);
+    // A target above the centre ray's error: it is taken, with the error the given m measures.
+    const FrameBasis loosest = trace(0, 2.0 * one.radiance_quadrature_error);
+    EXPECT_EQ(loosest.radiance_samples, 1);
+    EXPECT_TRUE(loosest.matrix == one.matrix);
+    EXPECT_TRUE(loosest.depth_b == one.depth_b && loosest.depth_a == one.depth_a);
+    EXPECT_EQ(loosest.radiance_quadrature_error, one.radiance_quadrature_error);
+    ASSERT_EQ(loosest.quadrature_candidates.size(), 2u) << "every candidate is measured and reported";
+    EXPECT_EQ(loosest.quadrature_candidates[0].radiance_error, one.radiance_quadrature_error);
+
+    // Between the two: the 2x2 rays, with the error the given m measures; both candidates reported.
+    const FrameBasis loose = trace(0, between);
     EXPECT_EQ(loose.radiance_samples, 4);
     EXPECT_TRUE(loose.matrix == given.matrix);
     EXPECT_TRUE(loose.depth_b == given.depth_b && loose.depth_a == given.depth_a);
     EXPECT_EQ(loose.radiance_quadrature_error, given.radiance_quadrature_error);
-    ASSERT_EQ(loose.quadrature_candidates.size(), 1u);
-    EXPECT_EQ(loose.quadrature_candidates[0].radiance_error, given.radiance_quadrature_error);
+    ASSERT_EQ(loose.quadrature_candidates.size(), 2u);
+    EXPECT_EQ(loose.quadrature_candidates[0].radiance_error, one.radiance_quadrature_error);
+    EXPECT_EQ(loose.quadrature_candidates[1].radiance_error, given.radiance_quadrature_error);
 
-    // A target below it: every ray, and no quadrature error left.
+    // A target below both: every ray, and no quadrature error left.
     const FrameBasis tight = trace(0, 0.5 * given.radiance_quadrature_error);
     EXPECT_EQ(tight.radiance_samples, 16);
     EXPECT_TRUE(tight.matrix == every.matrix);
     EXPECT_EQ(tight.radiance_quadrature_error, 0.0);
-    ASSERT_EQ(tight.quadrature_candidates.size(), 1u);
-    EXPECT_EQ(tight.quadrature_candidates[0].radiance_error, given.radiance_quadrature_error)
+    ASSERT_EQ(tight.quadrature_candidates.size(), 2u);
+    EXPECT_EQ(tight.quadrature_candidates[1].radiance_error, given.radiance_quadrature_error)
         << "what the 2x2 rays had";
     EXPECT_EQ(tight.radiance_quadrature_allowance, 0.5 * given.radiance_quadrature_error);
 
-    // The same target with a share of the photon noise above the 2x2 rays' error: they are taken.
+    // The same target with a share of the photon noise between the two errors: the 2x2 rays.
     // The photons do not depend on the camera's settings, so every trace here predicts one noise.
     const double noise = tight.predicted_photon_noise;
     ASSERT_GT(noise, 0.0);
-    const double share = 2.0 * given.radiance_quadrature_error / noise;
+    const double share = between / noise;
     const FrameBasis by_noise = trace(0, 0.5 * given.radiance_quadrature_error, share);
     EXPECT_EQ(by_noise.predicted_photon_noise, noise);
-    EXPECT_NEAR(by_noise.radiance_quadrature_allowance, 2.0 * given.radiance_quadrature_error,
-                1e-12 * given.radiance_quadrature_error);
+    EXPECT_NEAR(by_noise.radiance_quadrature_allowance, between, 1e-12 * between);
     EXPECT_EQ(by_noise.radiance_samples, 4);
     EXPECT_TRUE(by_noise.matrix == given.matrix);
-    // A quarter of that share is below the error again: every ray.
-    EXPECT_EQ(trace(0, 0.5 * given.radiance_quadrature_error, 0.25 * share).radiance_samples, 16);
+    // Half the 2x2 rays' error as the share: every ray again.
+    EXPECT_EQ(trace(0, 0.5 * given.radiance_quadrature_error, 0.5 * given.radiance_quadrature_error / noise)
+                  .radiance_samples,
+              16);
 }
 
 // A 24^3 box of world size 1: a Gaussian blob of density and temperature sampled at the voxels
@@ -432,16 +449,17 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
     }
     // The steps are measured from the coarsest, and a finer one only while the choice could still
     // change: the smooth blob takes 4 times for both, so twice is not marched; the rough one moves
-    // alpha too much at 4 times and measures twice as well. Then m = 2 at the step taken.
-    ASSERT_EQ(smooth_bake.quadrature_candidates.size(), 2u);
-    ASSERT_EQ(rough_bake.quadrature_candidates.size(), 3u);
-    ASSERT_EQ(smooth_twice.quadrature_candidates.size(), 2u);
+    // alpha too much at 4 times and measures twice as well. Then m = 1 and m = 2 at the step taken.
+    ASSERT_EQ(smooth_bake.quadrature_candidates.size(), 3u);
+    ASSERT_EQ(rough_bake.quadrature_candidates.size(), 4u);
+    ASSERT_EQ(smooth_twice.quadrature_candidates.size(), 3u);
     EXPECT_EQ(smooth_bake.quadrature_candidates[0].step_scale, 4);
     EXPECT_EQ(smooth_twice.quadrature_candidates[0].step_scale, 2);
     EXPECT_EQ(rough_bake.quadrature_candidates[0].step_scale, 2);
     EXPECT_EQ(rough_bake.quadrature_candidates[1].step_scale, 4);
     for (const FrameBasis* b : {&smooth_bake, &rough_bake, &smooth_twice}) {
         EXPECT_EQ(b->quadrature_candidates.front().rays_per_axis, 4);
+        EXPECT_EQ(b->quadrature_candidates.end()[-2].rays_per_axis, 1);
         EXPECT_EQ(b->quadrature_candidates.back().rays_per_axis, 2);
     }
     const QuadratureCandidate& smooth_twice_c = smooth_twice.quadrature_candidates[0];
@@ -505,7 +523,7 @@ TEST(BasisTracer, StepIsChosenByItsQuadratureError) {
     EXPECT_TRUE(rough_fixed.matrix == rough_tight.matrix);
     EXPECT_TRUE(rough_fixed.depth_b == rough_tight.depth_b && rough_fixed.depth_a == rough_tight.depth_a);
     EXPECT_EQ(rough_fixed.radiance_samples, rough_tight.radiance_samples);
-    ASSERT_EQ(rough_fixed.quadrature_candidates.size(), 1u) << "m = 2 alone";
+    ASSERT_EQ(rough_fixed.quadrature_candidates.size(), 2u) << "m = 1 and m = 2 alone";
 
     // What the smooth blob's step changes, over the whole image: within a few times what the check
     // measured on its 1/64 of the pixels (summed bins per grid point, as the check counts).
@@ -685,30 +703,35 @@ TEST(BasisTracer, ThickHighAlbedoSmokeKeepsItsEnergy) {
 
 // Cells follow the pixels where the voxels are finer (TraceSettings::cell_pixel_footprints): a box of
 // 96^3 voxels seen 16 pixels across has about 2.6 voxels a pixel at its front, so its cells are
-// 3.5 footprints wide where min_cells_across allows it (8 here, 12 cells of 9 voxels), the count
-// rule's where it does not (32 by default: 98 / 32 = 3 voxels, which is also max_cells_per_axis's);
-// the image 16 times as wide leaves the count rule's, and the optical-depth rule still makes thick
-// cells finer. The footprint against its closed form: the pixel's angle times the distance to the
-// box's front face, between the face (z = 0.5) and the influence box's margin of a voxel before it.
+// 7 footprints wide where min_cells_across allows it (4 here, 5 cells of 18 voxels), the count
+// rule's where it does not (8: 98 / 8 = 12 voxels; 32 by default: 98 / 32 = 3 voxels, which is also
+// max_cells_per_axis's); the image 16 times as wide leaves the count rule's, and the optical-depth
+// rule still makes thick cells finer. The footprint against its closed form: the pixel's angle times
+// the distance to the box's front face, between the face (z = 0.5) and the influence box's margin
+// of a voxel before it.
 TEST(BasisTracer, CellsFollowThePixelsWhereTheVoxelsAreFiner) {
     const BasisModel model = basisModel(2, 0.5, {{0.3}, {16.0}, {0.5}});  // largest extinction 16
-    const render::Medium medium = unitBox(0.5f, 0.1f, 96);
+    // Density 0.25: optical depth 16 * 0.25 / 96 a voxel, so the optical-depth rule allows 24.
+    const render::Medium medium = unitBox(0.25f, 0.1f, 96);
     const render::Camera camera = headOnCamera(16);
     const double voxel = 1.0 / 96.0, pixel_angle = 2.0 * std::tan(degrees(10.0) / 2.0) / 16.0;
     const double footprint = pixelFootprintVoxels(medium, camera);
     EXPECT_GE(footprint, pixel_angle * (2.5 - 2.0 * voxel) / voxel);
     EXPECT_LE(footprint, pixel_angle * 2.5 / voxel);
     TraceSettings settings;
+    EXPECT_EQ(settings.cell_pixel_footprints, 7.0);
     EXPECT_EQ(planFrameTrace(medium, camera, model, settings).cell_edge_voxels, 3);
-    settings.min_cells_across = 8;
+    settings.min_cells_across = 4;
     const TracePlan follows = planFrameTrace(medium, camera, model, settings);
-    EXPECT_EQ(follows.cell_edge_voxels, static_cast<int>(std::floor(3.5 * footprint)));
-    EXPECT_EQ(follows.cell_edge_voxels, 9);
+    EXPECT_EQ(follows.cell_edge_voxels, static_cast<int>(std::floor(7.0 * footprint)));
+    EXPECT_EQ(follows.cell_edge_voxels, 18);
     EXPECT_DOUBLE_EQ(follows.pixel_footprint_voxels, footprint);
+    settings.min_cells_across = 8;
+    EXPECT_EQ(planFrameTrace(medium, camera, model, settings).cell_edge_voxels, 12);
     EXPECT_EQ(planFrameTrace(medium, headOnCamera(256), model, settings).cell_edge_voxels, 3);
     settings.cell_pixel_footprints = 0.0;
     EXPECT_EQ(planFrameTrace(medium, camera, model, settings).cell_edge_voxels, 3);
-    settings.cell_pixel_footprints = 3.5;
+    settings.cell_pixel_footprints = 7.0;
     // Density 2: optical depth 16 * 2 / 96 a voxel, so at most 3 voxels a cell within depth 1.
     EXPECT_EQ(planFrameTrace(unitBox(2.0f, 0.1f, 96), camera, model, settings).cell_edge_voxels, 3);
 }

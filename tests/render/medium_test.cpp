@@ -144,6 +144,31 @@ TEST(Medium, BricksBoundEveryInterpolatedValue) {
     }
 }
 
+// The byte a brick the marches test (brickHasDensity) says what its range says: density in one
+// corner of a 17^3 box leaves most bricks empty, and a brick next to a dense voxel holds density (it
+// interpolates from it) even where its own voxels are all 0.
+TEST(Medium, BrickBytesSayWhichBricksHoldDensity) {
+    const glm::ivec3 dims(17);
+    std::vector<float> density(static_cast<std::size_t>(dims.x) * dims.y * dims.z, 0.0f);
+    std::vector<float> temperature(density.size(), 1.0f);
+    for (int z = 0; z < 5; ++z)
+        for (int y = 0; y < 5; ++y)
+            for (int x = 0; x < 5; ++x) density[x + dims.x * (y + dims.y * z)] = 2.0f;
+    const Medium medium(glm::ivec3(0), dims, density, temperature, glm::dmat4(1.0), 0.0f);
+    const glm::ivec3 n = medium.brickCounts();
+    int holding = 0, empty = 0;
+    for (int z = 0; z < n.z; ++z)
+        for (int y = 0; y < n.y; ++y)
+            for (int x = 0; x < n.x; ++x) {
+                const bool has = medium.brickHasDensity({x, y, z});
+                ASSERT_EQ(has, medium.brick({x, y, z}).max_density > 0.0f) << x << " " << y << " " << z;
+                (has ? holding : empty)++;
+            }
+    // Voxels 0-4 reach index points up to 5 (bricks of points -1..2, 3..6): bricks 0 and 1 per axis.
+    EXPECT_EQ(holding, 8);
+    EXPECT_EQ(empty, n.x * n.y * n.z - 8);
+}
+
 TEST(Medium, HomogeneousBoxHasTheStatedSizeAndUniformTemperature) {
     const glm::dvec3 size(2.0, 1.0, 4.0);
     const Medium box = Medium::homogeneousBox(size, glm::ivec3(4, 2, 8), 3.0f, 0.6f);
