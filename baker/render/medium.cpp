@@ -208,10 +208,7 @@ void Medium::buildBricks() {
                             range.min_temperature = std::min(range.min_temperature, v.y);
                             range.max_temperature = std::max(range.max_temperature, v.y);
                         }
-                const std::size_t at = static_cast<std::size_t>(bx) +
-                                       static_cast<std::size_t>(brick_counts_.x) *
-                                           (static_cast<std::size_t>(by) + static_cast<std::size_t>(brick_counts_.y) *
-                                                                               static_cast<std::size_t>(bz));
+                const std::size_t at = brickIndex({bx, by, bz});
                 bricks_[at] = range;
                 brick_has_density_[at] = range.max_density > 0.0f;
             }

@@ -110,23 +110,20 @@ class Medium {
     // stored voxel); brick b covers index points [origin - 1 + b * kBrickSize, ... + kBrickSize).
     glm::ivec3 brickCounts() const { return brick_counts_; }
     glm::dvec3 brickGridOrigin() const { return glm::dvec3(origin_) - 1.0; }
-    const BrickRange& brick(const glm::ivec3& b) const {
-        return bricks_[static_cast<std::size_t>(b.x) +
-                       static_cast<std::size_t>(brick_counts_.x) *
-                           (static_cast<std::size_t>(b.y) +
-                            static_cast<std::size_t>(brick_counts_.y) * static_cast<std::size_t>(b.z))];
-    }
+    const BrickRange& brick(const glm::ivec3& b) const { return bricks_[brickIndex(b)]; }
     // Whether brick b holds any density (brick(b).max_density > 0), from a byte a brick: the marches
     // ask it at nearly every step of a photon track, and the ranges (12 bytes a brick, 4 MB on a
     // frame upsampled 4x) missed the cache where these bytes (350 KB there) mostly do not.
-    bool brickHasDensity(const glm::ivec3& b) const {
-        return brick_has_density_[static_cast<std::size_t>(b.x) +
-                                  static_cast<std::size_t>(brick_counts_.x) *
-                                      (static_cast<std::size_t>(b.y) + static_cast<std::size_t>(brick_counts_.y) *
-                                                                           static_cast<std::size_t>(b.z))] != 0;
-    }
+    bool brickHasDensity(const glm::ivec3& b) const { return brick_has_density_[brickIndex(b)] != 0; }
 
   private:
+    // Bricks are stored x fastest, then y, then z.
+    std::size_t brickIndex(const glm::ivec3& b) const {
+        return static_cast<std::size_t>(b.x) +
+               static_cast<std::size_t>(brick_counts_.x) *
+                   (static_cast<std::size_t>(b.y) +
+                    static_cast<std::size_t>(brick_counts_.y) * static_cast<std::size_t>(b.z));
+    }
     glm::vec2 voxelOrBackground(int i, int j, int k) const;
     void loadCorners(const glm::ivec3& relative, glm::vec2 (&c)[8]) const;
     void buildBricks();
