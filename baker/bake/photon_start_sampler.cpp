@@ -20,7 +20,8 @@ std::vector<glm::ivec3> bricksWithDensity(const render::Medium& medium) {
 }  // namespace
 
 std::size_t PhotonStartSampler::bytesFor(const render::Medium& medium) {
-    return bricksWithDensity(medium).size() * (kCubes * sizeof(float) + sizeof(glm::ivec3) + 2 * sizeof(double));
+    return bricksWithDensity(medium).size() *
+           (kCubes * sizeof(float) + sizeof(glm::ivec3) + 2 * sizeof(double));
 }
 
 std::size_t PhotonStartSampler::bytes() const {
@@ -28,22 +29,37 @@ std::size_t PhotonStartSampler::bytes() const {
            (brick_totals_.capacity() + cdf_.capacity()) * sizeof(double);
 }
 
-PhotonStartSampler::PhotonStartSampler(const render::Medium& medium, Weight weight) : medium_(medium) {
-    bricks_ = bricksWithDensity(medium);
+CubeCentres::CubeCentres(const render::Medium& medium) : bricks(bricksWithDensity(medium)) {
+    values.resize(bricks.size() * kCubes);
+    tbb::parallel_for(std::size_t(0), bricks.size(), [&](std::size_t b) {
+        const glm::ivec3 lo = medium.origin() - 1 + bricks[b] * kSize;
+        glm::vec2* v = values.data() + b * kCubes;
+        for (int z = 0; z < kSize; ++z)
+            for (int y = 0; y < kSize; ++y)
+                for (int x = 0; x < kSize; ++x, ++v) {
+                    // What sampleIndex gives at the cube's centre.
+                    glm::vec2 corners[8];
+                    medium.cubeCorners(lo + glm::ivec3(x, y, z), corners);
+                    const render::MediumSample s = render::Medium::interpolate(corners, glm::vec3(0.5f));
+                    *v = glm::vec2(s.density, s.temperature);
+                }
+    });
+}
+
+PhotonStartSampler::PhotonStartSampler(const render::Medium& medium, const CubeCentres& centres,
+                                       const Weight& weight)
+    : medium_(medium) {
+    bricks_ = centres.bricks;
     cube_weights_.assign(bricks_.size() * kCubes, 0.0f);
     brick_totals_.assign(bricks_.size(), 0.0);
     tbb::parallel_for(std::size_t(0), bricks_.size(), [&](std::size_t b) {
-        const glm::ivec3 lo = medium.origin() - 1 + bricks_[b] * kSize;
+        const glm::vec2* v = centres.values.data() + b * kCubes;
         float* w = cube_weights_.data() + b * kCubes;
         double sum = 0.0;
-        int n = 0;
-        for (int z = 0; z < kSize; ++z)
-            for (int y = 0; y < kSize; ++y)
-                for (int x = 0; x < kSize; ++x, ++n) {
-                    const render::MediumSample s = medium.sampleIndex(glm::dvec3(lo + glm::ivec3(x, y, z)) + 0.5);
-                    w[n] = s.density > 0.0f ? static_cast<float>(std::max(weight(s.density, s.temperature), 0.0)) : 0.0f;
-                    sum += w[n];  // the stored floats: the pdf is what sample() draws by
-                }
+        for (int n = 0; n < kCubes; ++n) {
+            w[n] = v[n].x > 0.0f ? static_cast<float>(std::max(weight(v[n].x, v[n].y), 0.0)) : 0.0f;
+            sum += w[n];  // the stored floats: the pdf is what sample() draws by
+        }
         brick_totals_[b] = sum;
     });
     // Keep only bricks that can start photons; the sum runs in a fixed order (same bytes with any
@@ -83,8 +99,8 @@ PhotonStartSampler::Start PhotonStartSampler::sample(double u, render::Pcg32& rn
         ++cube;
     }
     while (w[cube] == 0.0f && cube > 0) --cube;  // rounding at the end: never a cube without weight
-    const glm::ivec3 q = medium_.origin() - 1 + bricks_[b] * kSize + glm::ivec3(cube % kSize, (cube / kSize) % kSize,
-                                                                              cube / (kSize * kSize));
+    const glm::ivec3 q = medium_.origin() - 1 + bricks_[b] * kSize +
+                         glm::ivec3(cube % kSize, (cube / kSize) % kSize, cube / (kSize * kSize));
     Start start;
     start.point = glm::dvec3(q) + glm::dvec3(rng.uniform(), rng.uniform(), rng.uniform());
     start.pdf = w[cube] / total_;

@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <vector>
 
@@ -19,12 +20,27 @@
 
 namespace firelook::bake {
 
+// Density and temperature at the centre of every unit index cube of the medium's bricks that hold
+// density, read once: the scattered light's two samplers and its emission masses weigh the same
+// cubes, and three reads of them (a trilinear lookup each) took 0.63 s of frame 12 upsampled 4x at
+// 128x128.
+struct CubeCentres {
+    static constexpr int kCubes =
+        render::Medium::kBrickSize * render::Medium::kBrickSize * render::Medium::kBrickSize;
+
+    explicit CubeCentres(const render::Medium& medium);
+    std::vector<glm::ivec3> bricks;  // bricks holding density, z slowest, x fastest
+    std::vector<glm::vec2> values;   // kCubes per brick, x fastest: (density, temperature)
+};
+
 class PhotonStartSampler {
   public:
     // weight(rho, t) at a cube centre with rho > 0; must be > 0 there.
     using Weight = std::function<double(float rho, float t)>;
 
-    PhotonStartSampler(const render::Medium& medium, Weight weight);
+    PhotonStartSampler(const render::Medium& medium, const CubeCentres& centres, const Weight& weight);
+    PhotonStartSampler(const render::Medium& medium, const Weight& weight)
+        : PhotonStartSampler(medium, CubeCentres(medium), weight) {}
 
     struct Start {
         glm::dvec3 point;  // index space
@@ -42,7 +58,7 @@ class PhotonStartSampler {
     std::size_t bytes() const;
 
   private:
-    static constexpr int kCubes = render::Medium::kBrickSize * render::Medium::kBrickSize * render::Medium::kBrickSize;
+    static constexpr int kCubes = CubeCentres::kCubes;
 
     const render::Medium& medium_;
     std::vector<glm::ivec3> bricks_;    // bricks with positive weight

@@ -34,39 +34,52 @@ ScatteredLightTracer::ScatteredLightTracer(const TransportContext& ctx, const Ba
     const TraceTables& tb = ctx.tables;
     const render::Medium& medium = ctx.medium;
     // Emission photons are drawn half by density and half equally per bin, so rare hot bins get as
-    // many photons as common cool ones. Masses from cube centres, summed per z-layer of bricks and
-    // then in order (the same bytes with any number of threads).
+    // many photons as common cool ones. Masses from cube centres, summed per z-layer of bricks (cube
+    // layer by cube layer, brick by brick within each) and then in order: the same bytes with any
+    // number of threads.
+    const CubeCentres centres(medium);
     const int layers = medium.brickCounts().z;
+    const int size = render::Medium::kBrickSize;
     std::vector<double> layer_mass(static_cast<size_t>(layers) * (1 + tb.bins), 0.0);
     tbb::parallel_for(0, layers, [&](int layer) {
         double* m = layer_mass.data() + static_cast<size_t>(layer) * (1 + tb.bins);
-        const int size = render::Medium::kBrickSize;
-        forEachCubeInSlab(medium, layer * size, (layer + 1) * size,
-                          [&](const glm::ivec3&, const glm::vec2(&)[8], float rho, float t) {
-                              m[0] += rho;
-                              int first, last;
-                              tb.binWindow(t, first, last);
-                              for (int i = first; i < last; ++i) m[1 + i] += rho * tb.rbf(i, t);
-                          });
+        const auto byZ = [](const glm::ivec3& b, int z) { return b.z < z; };
+        const std::size_t first = std::lower_bound(centres.bricks.begin(), centres.bricks.end(), layer, byZ) -
+                                  centres.bricks.begin();
+        const std::size_t last =
+            std::lower_bound(centres.bricks.begin(), centres.bricks.end(), layer + 1, byZ) -
+            centres.bricks.begin();
+        for (int z = 0; z < size; ++z)
+            for (std::size_t b = first; b < last; ++b)
+                for (int n = z * size * size; n < (z + 1) * size * size; ++n) {
+                    const glm::vec2 v = centres.values[b * CubeCentres::kCubes + n];
+                    if (!(v.x > 0.0f)) continue;
+                    m[0] += v.x;
+                    int first_bin, last_bin;
+                    tb.binWindow(v.y, first_bin, last_bin);
+                    for (int i = first_bin; i < last_bin; ++i) m[1 + i] += v.x * tb.rbf(i, v.y);
+                }
     });
     double density_mass = 0.0;
     std::vector<double> bin_mass(tb.bins, 0.0);
     for (int layer = 0; layer < layers; ++layer) {
         density_mass += layer_mass[static_cast<size_t>(layer) * (1 + tb.bins)];
-        for (int i = 0; i < tb.bins; ++i) bin_mass[i] += layer_mass[static_cast<size_t>(layer) * (1 + tb.bins) + 1 + i];
+        for (int i = 0; i < tb.bins; ++i)
+            bin_mass[i] += layer_mass[static_cast<size_t>(layer) * (1 + tb.bins) + 1 + i];
     }
     int active_bins = 0;
     for (double m : bin_mass) active_bins += m > 0.0;
-    emission_sampler_ = std::make_unique<PhotonStartSampler>(medium, [&tb, bin_mass, density_mass, active_bins](
-                                                                         float rho, float t) {
-        double per_bin = 0.0;
-        int first, last;
-        tb.binWindow(t, first, last);
-        for (int i = first; i < last; ++i)
-            if (bin_mass[i] > 0.0) per_bin += tb.rbf(i, t) / bin_mass[i];
-        return rho * (0.5 / density_mass + 0.5 * per_bin / std::max(active_bins, 1));
-    });
-    density_sampler_ = std::make_unique<PhotonStartSampler>(medium, [](float rho, float) { return double(rho); });
+    emission_sampler_ = std::make_unique<PhotonStartSampler>(
+        medium, centres, [&tb, bin_mass, density_mass, active_bins](float rho, float t) {
+            double per_bin = 0.0;
+            int first, last;
+            tb.binWindow(t, first, last);
+            for (int i = first; i < last; ++i)
+                if (bin_mass[i] > 0.0) per_bin += tb.rbf(i, t) / bin_mass[i];
+            return rho * (0.5 / density_mass + 0.5 * per_bin / std::max(active_bins, 1));
+        });
+    density_sampler_ =
+        std::make_unique<PhotonStartSampler>(medium, centres, [](float rho, float) { return double(rho); });
 }
 
 void ScatteredLightTracer::addChainPair(double size, const std::function<void(double)>& progress) {
