@@ -124,6 +124,7 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
                        "min_order_photon_share",
                        "max_orders",
                        "order_tolerance",
+                       "track_step_cells",
                        "step_voxels",
                        "footprint_step",
                        "footprint_samples_per_axis",
@@ -150,6 +151,7 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             c.trace.min_order_photon_share = t.value("min_order_photon_share", c.trace.min_order_photon_share);
             c.trace.max_orders = t.value("max_orders", c.trace.max_orders);
             c.trace.order_tolerance = t.value("order_tolerance", c.trace.order_tolerance);
+            c.trace.track_step_cells = t.value("track_step_cells", c.trace.track_step_cells);
             c.trace.step_voxels = t.value("step_voxels", c.trace.step_voxels);
             c.trace.footprint_samples_per_axis = t.value("footprint_samples_per_axis", c.trace.footprint_samples_per_axis);
             c.trace.radiance_samples_per_axis = t.value("radiance_samples_per_axis", c.trace.radiance_samples_per_axis);
@@ -198,14 +200,15 @@ void applyConfigFile(BakeConfig& c, const std::filesystem::path& file) {
             !(c.trace.step_mean_change_target >= 0.0) || !(c.trace.photon_noise_target >= 0.0) ||
             c.trace.max_photon_scale < 1 || c.trace.max_photon_scale > 64 ||
             !(c.trace.photon_pilot_share > 0.0 && c.trace.photon_pilot_share <= 1.0) ||
-            !(c.trace.min_order_photon_share > 0.0 && c.trace.min_order_photon_share <= 1.0))
+            !(c.trace.min_order_photon_share > 0.0 && c.trace.min_order_photon_share <= 1.0) ||
+            !(c.trace.track_step_cells > 0.0))
             throw Error(
                 ErrorCode::InvalidArgument,
                 "trace settings must be positive (footprint_samples_per_axis 0..8, 0 = from the image size; "
                 "radiance_samples_per_axis 0..8, 0 = from radiance_quadrature_target (>= 0, 0 = every "
                 "footprint ray) and radiance_quadrature_noise_share (>= 0); "
                 "photon_noise_target >= 0, 0 = the photons as given; max_photon_scale 1..64; "
-                "photon_pilot_share and min_order_photon_share in (0, 1]; cell_pixel_footprints >= 0, 0 = "
+                "photon_pilot_share and min_order_photon_share in (0, 1]; track_step_cells > 0; cell_pixel_footprints >= 0, 0 = "
                 "off; max_step_scale 1..16, 1 = step_voxels always; step_radiance_target, step_alpha_target and "
                 "step_mean_change_target >= 0)");
     } catch (const Error& e) {
@@ -268,6 +271,7 @@ TraceSettings qualityTrace(const std::string& quality) {
         t.photon_noise_target = 0.005;
         t.max_photon_scale = 8;
         t.order_tolerance = 0.001;
+        t.track_step_cells = 0.5;
         return t;
     }
     throw Error(ErrorCode::InvalidArgument, "quality must be preview, default or final, not \"" + quality + "\"");
@@ -343,6 +347,7 @@ std::string configToJson(const BakeConfig& c) {
                   {"min_order_photon_share", c.trace.min_order_photon_share},
                   {"max_orders", c.trace.max_orders},
                   {"order_tolerance", c.trace.order_tolerance},
+                  {"track_step_cells", c.trace.track_step_cells},
                   {"step_voxels", c.trace.step_voxels},
                   {"footprint_samples_per_axis", c.trace.footprint_samples_per_axis},
                   {"radiance_samples_per_axis", c.trace.radiance_samples_per_axis},

@@ -49,7 +49,7 @@ inline bool clipToBox(const IndexRay& ray, const IndexBox& box, double& t0, doub
 }
 
 // A ray in the bricks' grid (Medium::kBrickSize voxels a unit), prepared once a march: the brick
-// test runs at nearly every step of a photon track (steps of half a cell, bricks of 4 voxels), and
+// test runs at nearly every step of a photon track (steps of a cell, bricks of 4 voxels), and
 // with a division per axis it was 8% of the photon passes on a frame upsampled 4x.
 struct BrickRay {
     glm::dvec3 origin, direction, inverse;  // inverse: 1 / direction per axis (0 where it is 0)

@@ -250,6 +250,7 @@ bake::TraceSettings traceSettingsOf(const ordered_json& metadata) {
     t.min_order_photon_share = s.value("min_order_photon_share", 1.0);  // before it: every order its photons
     t.max_orders = s.at("max_orders");
     t.order_tolerance = s.at("order_tolerance");
+    t.track_step_cells = s.value("track_step_cells", 0.5);  // before the key (2026-12-08): half a cell
     t.step_voxels = s.at("step_voxels");
     t.footprint_samples_per_axis = s.value("footprint_samples_per_axis", 1);
     // Packages from before the key: every footprint ray carried radiance, the default.

@@ -50,7 +50,7 @@ TEST(BakeConfig, AppliesEveryKey) {
                   "min_order_photon_share": 0.5, "radiance_quadrature_target": 0.002,
                   "radiance_quadrature_noise_share": 0.5, "cell_pixel_footprints": 2.5, "min_cells_across": 20,
                   "max_step_scale": 2, "step_radiance_target": 0.0005, "step_alpha_target": 0.002,
-                  "step_mean_change_target": 0.001},
+                  "step_mean_change_target": 0.001, "track_step_cells": 0.75},
         "compression": {"target_relative_error": 0.01, "max_rank": 7}
     })");
     EXPECT_EQ(c.frames, "2-5");
@@ -76,6 +76,7 @@ TEST(BakeConfig, AppliesEveryKey) {
     EXPECT_EQ(c.trace.photons_per_order, 50);
     EXPECT_EQ(c.trace.max_orders, 3);
     EXPECT_EQ(c.trace.order_tolerance, 0.01);
+    EXPECT_EQ(c.trace.track_step_cells, 0.75);
     EXPECT_EQ(c.trace.step_voxels, 0.25);
     EXPECT_EQ(c.trace.photon_pilot_share, 0.5);
     EXPECT_EQ(c.trace.min_order_photon_share, 0.5);
@@ -170,6 +171,7 @@ TEST(BakeConfig, ErrorsNameTheFileAndTheProblem) {
     expectError(R"({"trace": {"radiance_quadrature_noise_share": -1}})", "radiance_quadrature_noise_share");
     expectError(R"({"trace": {"cell_pixel_footprints": -1}})", "cell_pixel_footprints");
     expectError(R"({"trace": {"min_cells_across": 0}})", "trace");
+    expectError(R"({"trace": {"track_step_cells": 0}})", "track_step_cells");
     expectError(R"({"trace": {"max_step_scale": 0}})", "max_step_scale");
     expectError(R"({"trace": {"max_step_scale": 17}})", "max_step_scale");
     expectError(R"({"trace": {"step_alpha_target": -0.1}})", "step_alpha_target");
@@ -209,6 +211,9 @@ TEST(BakeConfig, QualityPresetsAndTheirOverrides) {
     EXPECT_EQ(radianceSamplesPerAxis(final_, 4), 4);
     EXPECT_EQ(radianceCandidates(final_, 4), std::vector<int>{}) << "final: every footprint ray";
     EXPECT_EQ(stepScaleCandidates(final_), std::vector<int>{}) << "final: at its finer step always";
+    EXPECT_EQ(defaults.track_step_cells, 1.0) << "default: photon tracks step a cell";
+    EXPECT_EQ(preview.track_step_cells, 1.0);
+    EXPECT_EQ(final_.track_step_cells, 0.5) << "final: half a cell";
     EXPECT_EQ(stepScaleCandidates(preview), (std::vector<int>{2, 4, 8, 16}));
     EXPECT_EQ(stepScaleCandidates(defaults), (std::vector<int>{2, 4, 8, 16}));
     EXPECT_EQ(radianceSamplesPerAxis(preview, 4), 2) << "preview: 2x2 of them";
