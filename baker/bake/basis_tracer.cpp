@@ -258,17 +258,18 @@ FrameBasis traceFrameBasis(const render::Medium& medium, const render::Camera& c
     gate.checkpoint(0.05);
     out.seconds_light = lapSeconds(clock);
 
-    // Scattering orders: Lbar summed over orders, from independent photon chains (scattered_light.h).
-    // Tracks only feed cell averages and each step is integrated exactly for its extinction, so a
-    // track steps a cell at a time by default (track_step_cells, at least a voxel). A photon starts at a random point, so its
-    // steps' midpoints fall at a random phase along its track: the midpoint rule's depth is right on
-    // average over photons, and each cell gets the steps whose midpoint lies in it, its chord's share
-    // in expectation. A longer step adds noise, which the chains' prediction measures, and a bias
-    // only through the transmittance's curvature within a step. Frame 12 of the bundled sample
-    // upsampled 4x at 128x128 (8-voxel cells), a cell against half a cell: photon passes 5.3 s
-    // against 6.6 s, predicted photon noise 0.894% both; noise-corrected error of 3 looks against
-    // a 265-spp judge 0.55% / 0.61% (median / worst) against 0.52% / 0.60% (a quarter cell:
-    // 0.54% / 0.60%, the judge's spread), image-mean bias -0.09% / -0.10% against -0.07% / -0.07%.
+    // Scattering orders: Lbar summed over orders, from independent photon chains
+    // (scattered_light.h). Tracks only feed cell averages and each step is integrated exactly for
+    // its extinction, so a track steps a cell at a time by default (track_step_cells, at least a
+    // voxel). A photon starts at a random point, so its steps' midpoints fall at a random phase
+    // along its track: the midpoint rule's depth is right on average over photons, and each cell
+    // gets the steps whose midpoint lies in it, its chord's share in expectation. A longer step
+    // adds noise, which the chains' prediction measures, and a bias only through the
+    // transmittance's curvature within a step. Frame 12 of the bundled sample upsampled 4x at
+    // 128x128 (8-voxel cells), a cell against half a cell: photon passes 5.3 s against 6.6 s,
+    // predicted photon noise 0.894% both; noise-corrected error of 3 looks against a 265-spp judge
+    // 0.55% / 0.61% (median / worst) against 0.52% / 0.60% (a quarter cell: 0.54% / 0.60%, the
+    // judge's spread), image-mean bias -0.09% / -0.10% against -0.07% / -0.07%.
     const double track_step = std::max(1.0, settings.track_step_cells * cells.edge) * voxel;
     const TransportContext ctx{medium, tb, cells, light_depths, track_step,
                                static_cast<size_t>(cells.slots) * G * C, gate.stopFlag()};

@@ -149,18 +149,18 @@ struct TraceSettings {
     // where it is used. `final` takes half a cell.
     double track_step_cells = 1.0;
     // Smallest march step in voxels (camera rays and light depths; photon tracks step
-    // track_step_cells). Each camera ray's first step is a random share
-    // of it (march()): rays that run along a grid axis from a voxel face (a view along an axis)
-    // otherwise put every midpoint at the same place within its voxel, and the midpoint rule's
-    // error at the trilinear field's kinks adds up instead of cancelling. Frame 3 of the bundled
-    // sample at 128x128 (T_c 1.05, k_s 15.2, k_f 3.8, 4096-spp reference, noise of its mean
-    // 0.014%), emission and extinction only (albedo 0): image mean -0.23% at 0.25 with every ray at
-    // the same phase, +0.04% with a phase per ray, +0.04% at 0.125; relative RMSE 0.46%, 0.37% and
-    // 0.35%. At 0.5 with phases +0.11% and 0.63%. With scattering (albedo 0.7) -0.15%, -0.08% and
-    // -0.07%; sunlit smoke (samples/data/smoke frame 20, k_s 50, emission off) -0.077% at either
-    // step. So 0.25: the camera rays and light depths take half the time of 0.125 (`final` keeps
-    // 0.125). Alpha: at 0.5 the silhouettes' optical depths moved alpha by 0.0116 against the same
-    // rays marched at 0.1 (frame 3, 128x128, k_s 15); 0.25: 0.0018, 0.1: 0.0006.
+    // track_step_cells). Each camera ray's first step is a random share of it (march()): rays that
+    // run along a grid axis from a voxel face (a view along an axis) otherwise put every midpoint
+    // at the same place within its voxel, and the midpoint rule's error at the trilinear field's
+    // kinks adds up instead of cancelling. Frame 3 of the bundled sample at 128x128 (T_c 1.05, k_s
+    // 15.2, k_f 3.8, 4096-spp reference, noise of its mean 0.014%), emission and extinction only
+    // (albedo 0): image mean -0.23% at 0.25 with every ray at the same phase, +0.04% with a phase
+    // per ray, +0.04% at 0.125; relative RMSE 0.46%, 0.37% and 0.35%. At 0.5 with phases +0.11% and
+    // 0.63%. With scattering (albedo 0.7) -0.15%, -0.08% and -0.07%; sunlit smoke
+    // (samples/data/smoke frame 20, k_s 50, emission off) -0.077% at either step. So 0.25: the
+    // camera rays and light depths take half the time of 0.125 (`final` keeps 0.125). Alpha: at 0.5
+    // the silhouettes' optical depths moved alpha by 0.0116 against the same rays marched at 0.1
+    // (frame 3, 128x128, k_s 15); 0.25: 0.0018, 0.1: 0.0006.
     double step_voxels = 0.25;
     // Camera-ray step as a fraction of the spacing of the rays a pixel marches where the ray enters
     // the volume (the n x n footprint rays; the m x m radiance rays where they are fewer), when
